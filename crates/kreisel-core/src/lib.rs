@@ -1,0 +1,16 @@
+//! kreisel-core: the physics and numerics of spinning tops, with no Python in sight.
+//!
+//! - [`special`]: Jacobi elliptic functions, elliptic integrals, polynomial roots and
+//!   piecewise Chebyshev interpolation.
+//! - [`models::lagrange`]: the heavy symmetric top on a fixed pivot, solved exactly.
+//! - [`stability`]: steady precession, small nutations and the sleeping top.
+//!
+//! Conventions (SI units, radians, Euler angles z-x-z with theta from the upward vertical)
+//! are those of the project's PHYSICS notes.
+
+pub mod error;
+pub mod models;
+pub mod special;
+pub mod stability;
+
+pub use error::{KreiselError, Result};

@@ -1,0 +1,630 @@
+//! The exact solution of the Lagrange top in Jacobi elliptic functions.
+//!
+//! With `u = cos(theta)` the nutation obeys `udot^2 = f(u)`, a cubic whose roots `uA`, `uB`
+//! bound the motion (PHYSICS notes, section 1). Writing
+//!
+//! `u(tau) = uA cn^2(tau | m) + uB sn^2(tau | m)`,  `tau = w t + tau0`,
+//!
+//! with `m = (uB - uA)/(u3 - uA)` and `4 w^2 = beta (u3 - uA)`, solves it for either sign of
+//! `beta = 2 m g l / I1`: the anchor `uA` is the lower turning point for `l > 0` and the upper
+//! one for `l < 0` (and `l = 0` gives `m = 0`, the free top). The same form gives
+//! `1 - u = (1 - uA) cn^2 + (1 - uB) sn^2` and `1 + u` alike, so every quantity near the
+//! vertical keeps full precision. The precession and spin angles are the integrals of
+//! `phidot = (b - a u)/(1 - u^2) = [(b - a)/(1 - u) + (b + a)/(1 + u)] / 2` and
+//! `psidot = (I1/I3 - 1) a - [(b - a)/(1 - u) - (b + a)/(1 + u)] / 2`, i.e. incomplete elliptic
+//! integrals of the third kind in `am(tau)` with characteristics `n+ = (uB - uA)/(1 - uA)` and
+//! `n- = -(uB - uA)/(1 + uA)`.
+//!
+//! Evaluation: all of theta, its rate, the periodic parts of phi and psi and their rates are
+//! functions of `tau` on half a nutation period, `[0, K]`, extended by
+//! symmetry (`u` is even in `tau`, the angle integrals odd) and by the period (`2K` in
+//! `tau` adds a fixed advance). They are interpolated once per trajectory to round-off by
+//! piecewise polynomials ([`Piecewise`]), which makes each further time cost a few tens of
+//! nanoseconds; the direct evaluation with Jacobi functions and Carlson integrals is kept
+//! for checks and for the separatrix, whose period is infinite.
+
+use super::{EulerState, LagrangeTop};
+use crate::error::{KreiselError, Result};
+use crate::special::chebyshev::Piecewise;
+use crate::special::cubic::Poly3;
+use crate::special::elliptic::{ellipk_m1, pi_of_tau, rf};
+use crate::special::jacobi;
+use std::f64::consts::PI;
+
+/// The kinds of motion of a Lagrange top.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MotionKind {
+    /// Spinning upright (theta = 0 for all time).
+    Sleeping,
+    /// Spinning hanging straight down (theta = pi for all time).
+    Hanging,
+    /// Steady precession: theta constant, 0 < theta < pi.
+    RegularPrecession,
+    /// Nutation with phidot of one sign throughout (wavy path of the axis).
+    Waves,
+    /// Nutation with phidot = 0 at one turning point (cusps).
+    Cusps,
+    /// Nutation with phidot changing sign (loops).
+    Loops,
+    /// The figure axis passes through the vertical (Mz = +-M3).
+    ThroughVertical,
+    /// The separatrix: the axis approaches the vertical asymptotically (infinite period).
+    Asymptotic,
+}
+
+impl MotionKind {
+    /// The public name of the kind.
+    pub fn name(&self) -> &'static str {
+        match self {
+            MotionKind::Sleeping => "sleeping",
+            MotionKind::Hanging => "hanging",
+            MotionKind::RegularPrecession => "regular_precession",
+            MotionKind::Waves => "waves",
+            MotionKind::Cusps => "cusps",
+            MotionKind::Loops => "loops",
+            MotionKind::ThroughVertical => "through_vertical",
+            MotionKind::Asymptotic => "asymptotic",
+        }
+    }
+}
+
+/// A turning point u, with 1 - u and 1 + u kept separately (full precision near +-1).
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Turn {
+    u: f64,
+    om: f64,
+    op: f64,
+    /// u - u0
+    delta: f64,
+}
+
+impl Turn {
+    fn theta(&self) -> f64 {
+        (self.om * self.op).max(0.0).sqrt().atan2(self.u)
+    }
+}
+
+/// Values at one tau in [0, K]: theta, thetadot (tau increasing), Phi, Psi_periodic,
+/// phidot, psidot.
+type Row = [f64; 6];
+
+#[derive(Debug, Clone)]
+struct Nutation {
+    a_: Turn,
+    b_: Turn,
+    m: f64,
+    m1: f64,
+    w: f64,
+    /// Half-period in tau, K(m); infinite on the separatrix.
+    kk: f64,
+    tau0: f64,
+    /// (b - a)/(2 (1 - uA)) and (b + a)/(2 (1 + uA)), zero where the numerator is zero.
+    cp: f64,
+    cm: f64,
+    np: f64,
+    np1: f64,
+    nm: f64,
+    nm1: f64,
+    db: f64,
+    sb: f64,
+    /// Phi and Psi_periodic at tau = K.
+    phi_k: f64,
+    psi_k: f64,
+    /// Vertical passages at tau = 0 (mod 2K) and at tau = K (mod 2K).
+    cross_a: bool,
+    cross_b: bool,
+    interp: Option<Piecewise<6>>,
+    /// Phi_total and Psi_total and crossings at tau0.
+    phi_tot0: f64,
+    psi_tot0: f64,
+    cross0: f64,
+}
+
+/// The exact motion of one Lagrange top from one state, ready to evaluate at any time.
+#[derive(Debug, Clone)]
+pub struct LagrangeExact {
+    state: EulerState,
+    kind: MotionKind,
+    lo: Turn,
+    hi: Turn,
+    /// (I1/I3 - 1) a: the secular part of psidot.
+    spin_lin: f64,
+    /// sqrt(4 w^2) for small oscillations about a steady motion (0 if none).
+    small_freq: f64,
+    nut: Option<Nutation>,
+}
+
+impl LagrangeExact {
+    /// Prepares the exact solution from a state (taken at t = 0).
+    pub fn new(top: &LagrangeTop, state: &EulerState) -> Result<Self> {
+        let s = normalise(state);
+        let i1 = top.i1();
+        let inv = top.invariants(&s);
+        let a = inv.m3 / i1;
+        let beta = 2.0 * top.mgl() / i1;
+        let (st, u0) = s.theta.sin_cos();
+        // 1 - u0 and 1 + u0 without cancellation.
+        let om0 = 2.0 * (0.5 * s.theta).sin().powi(2);
+        let op0 = 2.0 * (0.5 * s.theta).cos().powi(2);
+        // The gyro function about u0 (delta = u - u0): c0 = udot0^2 exactly.
+        let a0 = s.theta_dot * s.theta_dot + (s.phi_dot * st).powi(2);
+        let b0 = s.phi_dot * st * st; // = b - a u0
+        let c0 = (st * s.theta_dot).powi(2);
+        let c1 = -st * st * beta - 2.0 * u0 * a0 + 2.0 * a * b0;
+        let c2 = 2.0 * u0 * beta - a0 - a * a;
+        let p = Poly3([c0, c1, c2, beta]);
+        let db = b0 - a * om0; // b - a
+        let sb = b0 + a * op0; // b + a
+
+        let (dlo, dhi) = if c0 == 0.0 && c1 == 0.0 {
+            (0.0, 0.0)
+        } else if c0 == 0.0 {
+            // u0 is a simple turning point; the other one is a root of the deflated quadratic.
+            let q = Poly3([c1, c2, beta, 0.0]);
+            if c1 > 0.0 {
+                (0.0, q.root_in(0.0, om0))
+            } else {
+                (q.root_in(-op0, 0.0), 0.0)
+            }
+        } else {
+            (p.root_in(-op0, 0.0), p.root_in(0.0, om0))
+        };
+        let lo = turn(u0, om0, op0, dlo, db, sb, beta, a, a0);
+        let hi = turn(u0, om0, op0, dhi, db, sb, beta, a, a0);
+        let spin_lin = (i1 / top.i3() - 1.0) * a;
+
+        let mut out = LagrangeExact {
+            state: s,
+            kind: MotionKind::RegularPrecession,
+            lo,
+            hi,
+            spin_lin,
+            small_freq: 0.0,
+            nut: None,
+        };
+        // 4 w^2 = beta (u3 - uA), written without dividing by beta (so l = 0 is included).
+        let (ta, tb) = if beta >= 0.0 { (lo, hi) } else { (hi, lo) };
+        let w4 = -c2 - beta * (tb.delta + 2.0 * ta.delta);
+        if hi.delta - lo.delta == 0.0 {
+            out.kind = if s.theta == 0.0 {
+                MotionKind::Sleeping
+            } else if s.theta == PI {
+                MotionKind::Hanging
+            } else {
+                MotionKind::RegularPrecession
+            };
+            out.small_freq = w4.max(0.0).sqrt();
+            return Ok(out);
+        }
+        if !(w4 > 0.0) {
+            return Err(KreiselError::Numerical(format!(
+                "nutation frequency squared {w4} is not positive"
+            )));
+        }
+        let w = 0.5 * w4.sqrt();
+        out.small_freq = 2.0 * w;
+        let dab = tb.delta - ta.delta; // uB - uA
+        let mut m = (beta * dab / w4).clamp(0.0, 1.0);
+        let mut m1 = ((w4 - beta * dab) / w4).clamp(0.0, 1.0);
+        if m1 < 8.0 * f64::EPSILON {
+            // The data cannot tell this from the separatrix: take the separatrix.
+            m = 1.0;
+            m1 = 0.0;
+        }
+        let kk = ellipk_m1(m1);
+
+        // Phase: sn^2(tau0) = (u0 - uA)/(uB - uA), cn^2 = (uB - u0)/(uB - uA).
+        let (sa, sbq) = (ta.delta.abs().sqrt(), tb.delta.abs().sqrt());
+        let norm = (sa * sa + sbq * sbq).sqrt();
+        let (sn0, cn0) = (sa / norm, sbq / norm);
+        let dn0 = (cn0 * cn0 + m1 * sn0 * sn0).sqrt();
+        let mut tau0 = if sn0 == 0.0 {
+            0.0
+        } else if cn0 == 0.0 {
+            kk
+        } else {
+            sn0 * rf(cn0 * cn0, dn0 * dn0, 1.0)?
+        };
+        let udot0 = -st * s.theta_dot;
+        if udot0 != 0.0 && (udot0 > 0.0) != (dab > 0.0) {
+            tau0 = -tau0;
+        }
+        if !tau0.is_finite() {
+            return Err(KreiselError::Numerical(
+                "state at the vertical on the separatrix".into(),
+            ));
+        }
+        let half = |om: f64, num: f64| if num == 0.0 { 0.0 } else { num / (2.0 * om) };
+        let cp = half(ta.om, db);
+        let cm = half(ta.op, sb);
+        let np = if ta.om == 0.0 { 0.0 } else { dab / ta.om };
+        let np1 = if ta.om == 0.0 { 1.0 } else { tb.om / ta.om };
+        let nm = if ta.op == 0.0 { 0.0 } else { -dab / ta.op };
+        let nm1 = if ta.op == 0.0 { 1.0 } else { tb.op / ta.op };
+        let mut nut = Nutation {
+            a_: ta,
+            b_: tb,
+            m,
+            m1,
+            w,
+            kk,
+            tau0,
+            cp,
+            cm,
+            np,
+            np1,
+            nm,
+            nm1,
+            db,
+            sb,
+            phi_k: 0.0,
+            psi_k: 0.0,
+            cross_a: ta.om == 0.0 || ta.op == 0.0,
+            cross_b: tb.om == 0.0 || tb.op == 0.0,
+            interp: None,
+            phi_tot0: 0.0,
+            psi_tot0: 0.0,
+            cross0: 0.0,
+        };
+        out.kind = if m1 == 0.0 {
+            MotionKind::Asymptotic
+        } else if nut.cross_a || nut.cross_b {
+            MotionKind::ThroughVertical
+        } else {
+            let (ga, gb) = (b0 - a * lo.delta, b0 - a * hi.delta);
+            let scale = 1e-12 * (a.abs() + (b0 + a * u0).abs());
+            if ga.abs() <= scale || gb.abs() <= scale {
+                MotionKind::Cusps
+            } else if (ga > 0.0) != (gb > 0.0) {
+                MotionKind::Loops
+            } else {
+                MotionKind::Waves
+            }
+        };
+        if kk.is_finite() {
+            let end = nut.row(kk, spin_lin)?;
+            nut.phi_k = end[2];
+            nut.psi_k = end[3];
+            // Interpolate to round-off; fall back to direct evaluation if that fails.
+            nut.interp = Piecewise::<6>::build(0.0, kk, |x| nut.row(x, spin_lin), 1e-14, 26).ok();
+        }
+        let (_, _, pt, qt, cr) = nut.totals(tau0, spin_lin)?;
+        nut.phi_tot0 = pt;
+        nut.psi_tot0 = qt;
+        nut.cross0 = cr;
+        out.nut = Some(nut);
+        Ok(out)
+    }
+
+    /// The motion kind.
+    pub fn kind(&self) -> MotionKind {
+        self.kind
+    }
+
+    /// (theta_min, theta_max): the turning points of the nutation.
+    pub fn turning_points(&self) -> (f64, f64) {
+        (self.hi.theta(), self.lo.theta())
+    }
+
+    /// (u_min, u_max) = (cos theta_max, cos theta_min).
+    pub fn u_range(&self) -> (f64, f64) {
+        (self.lo.u, self.hi.u)
+    }
+
+    /// Nutation period (s): infinite on the separatrix; for a steady motion the period of
+    /// small nutations about it (infinite if it is unstable).
+    pub fn nutation_period(&self) -> f64 {
+        match &self.nut {
+            Some(n) => 2.0 * n.kk / n.w,
+            None if self.small_freq > 0.0 => 2.0 * PI / self.small_freq,
+            None => f64::INFINITY,
+        }
+    }
+
+    /// The mean of phidot over a nutation period (rad/s). On the separatrix, the limit rate
+    /// at the vertical.
+    pub fn mean_precession_rate(&self) -> f64 {
+        match &self.nut {
+            None => self.state.phi_dot,
+            Some(n) if n.kk.is_infinite() => {
+                // Time average over the infinite approach is the rate at the vertical.
+                if n.b_.om == 0.0 {
+                    n.sb / (2.0 * 2.0)
+                } else {
+                    n.db / (2.0 * 2.0)
+                }
+            }
+            Some(n) => {
+                let crossings = n.cross_a as u8 as f64 + n.cross_b as u8 as f64;
+                (2.0 * n.phi_k + PI * crossings) / (2.0 * n.kk / n.w)
+            }
+        }
+    }
+
+    /// Number of interpolation segments (0 when evaluation is direct).
+    pub fn segments(&self) -> usize {
+        self.nut
+            .as_ref()
+            .and_then(|n| n.interp.as_ref())
+            .map_or(0, |p| p.segments())
+    }
+
+    /// The state at time `t` (fast path: interpolation where available).
+    pub fn at(&self, t: f64) -> Result<EulerState> {
+        self.eval(t, true)
+    }
+
+    /// The state at time `t` by direct evaluation of the Jacobi functions and elliptic
+    /// integrals (slow; for checks).
+    pub fn at_direct(&self, t: f64) -> Result<EulerState> {
+        self.eval(t, false)
+    }
+
+    fn eval(&self, t: f64, fast: bool) -> Result<EulerState> {
+        let s = &self.state;
+        let Some(n) = &self.nut else {
+            return Ok(EulerState {
+                phi: s.phi + s.phi_dot * t,
+                psi: s.psi + s.psi_dot * t,
+                ..*s
+            });
+        };
+        let tau = n.w * t + n.tau0;
+        let (theta, theta_dot, pt, qt, cr) = if fast && n.interp.is_some() {
+            n.totals_fast(tau)
+        } else {
+            n.totals(tau, self.spin_lin)?
+        };
+        let rates = if fast && n.interp.is_some() {
+            let v = n.interp.as_ref().unwrap().eval(n.reduce(tau).2);
+            (v[4], v[5])
+        } else {
+            let r = n.row(n.reduce(tau).2, self.spin_lin)?;
+            (r[4], r[5])
+        };
+        let jumps = cr - n.cross0;
+        Ok(EulerState {
+            theta,
+            theta_dot,
+            phi: s.phi + (pt - n.phi_tot0) + PI * jumps,
+            psi: s.psi + self.spin_lin * t + (qt - n.psi_tot0) - PI * jumps,
+            phi_dot: rates.0,
+            psi_dot: rates.1,
+        })
+    }
+
+    /// Evaluates at many times into the six output slices (theta, phi, psi, theta_dot,
+    /// phi_dot, psi_dot), each as long as `t`.
+    pub fn eval_into(&self, t: &[f64], out: [&mut [f64]; 6]) -> Result<()> {
+        let [th, ph, ps, thd, phd, psd] = out;
+        if let Some(n) = self.nut.as_ref().filter(|n| n.interp.is_some()) {
+            let interp = n.interp.as_ref().unwrap();
+            let s = &self.state;
+            for (i, &ti) in t.iter().enumerate() {
+                let tau = n.w * ti + n.tau0;
+                let (j, sgn, rho) = n.reduce(tau);
+                let v = interp.eval(rho);
+                let cr = n.crossings(tau);
+                let jumps = cr - n.cross0;
+                th[i] = v[0];
+                thd[i] = sgn * v[1];
+                ph[i] = s.phi + (2.0 * j * n.phi_k + sgn * v[2] - n.phi_tot0) + PI * jumps;
+                ps[i] = s.psi + self.spin_lin * ti + (2.0 * j * n.psi_k + sgn * v[3] - n.psi_tot0)
+                    - PI * jumps;
+                phd[i] = v[4];
+                psd[i] = v[5];
+            }
+            return Ok(());
+        }
+        for (i, &ti) in t.iter().enumerate() {
+            let e = self.at(ti)?;
+            th[i] = e.theta;
+            ph[i] = e.phi;
+            ps[i] = e.psi;
+            thd[i] = e.theta_dot;
+            phd[i] = e.phi_dot;
+            psd[i] = e.psi_dot;
+        }
+        Ok(())
+    }
+}
+
+impl Nutation {
+    /// tau -> (periods j, sign, rho in [0, K]) with tau = 2 K j + sign rho.
+    #[inline]
+    fn reduce(&self, tau: f64) -> (f64, f64, f64) {
+        if self.kk.is_infinite() {
+            return (0.0, if tau < 0.0 { -1.0 } else { 1.0 }, tau.abs());
+        }
+        let j = (tau / (2.0 * self.kk)).round();
+        let r = tau - 2.0 * self.kk * j;
+        let sgn = if r < 0.0 { -1.0 } else { 1.0 };
+        (j, sgn, r.abs().min(self.kk))
+    }
+
+    /// Number of vertical passages counted from tau = 0 (a step function of tau).
+    #[inline]
+    fn crossings(&self, tau: f64) -> f64 {
+        if self.kk.is_infinite() {
+            return 0.0;
+        }
+        let p = 2.0 * self.kk;
+        let mut c = 0.0;
+        if self.cross_a {
+            c += (tau / p).floor();
+        }
+        if self.cross_b {
+            c += ((tau - self.kk) / p).floor();
+        }
+        c
+    }
+
+    #[inline]
+    fn totals_fast(&self, tau: f64) -> (f64, f64, f64, f64, f64) {
+        let (j, sgn, rho) = self.reduce(tau);
+        let v = self.interp.as_ref().unwrap().eval(rho);
+        (
+            v[0],
+            sgn * v[1],
+            2.0 * j * self.phi_k + sgn * v[2],
+            2.0 * j * self.psi_k + sgn * v[3],
+            self.crossings(tau),
+        )
+    }
+
+    fn totals(&self, tau: f64, spin_lin: f64) -> Result<(f64, f64, f64, f64, f64)> {
+        let (j, sgn, rho) = self.reduce(tau);
+        let v = self.row(rho, spin_lin)?;
+        Ok((
+            v[0],
+            sgn * v[1],
+            2.0 * j * self.phi_k + sgn * v[2],
+            2.0 * j * self.psi_k + sgn * v[3],
+            self.crossings(tau),
+        ))
+    }
+
+    /// Direct evaluation at rho in [0, K] (any rho >= 0 on the separatrix).
+    fn row(&self, rho: f64, spin_lin: f64) -> Result<Row> {
+        let jf = jacobi(rho, self.m, self.m1);
+        let (sn, cn, dn) = (jf.sn.max(0.0), jf.cn.max(0.0), jf.dn);
+        let (s2, c2) = (sn * sn, cn * cn);
+        let (ta, tb) = (&self.a_, &self.b_);
+        let u = ta.u * c2 + tb.u * s2;
+        let om = ta.om * c2 + tb.om * s2;
+        let op = ta.op * c2 + tb.op * s2;
+        let theta = (om * op).max(0.0).sqrt().atan2(u);
+        // thetadot = -udot / sin(theta), udot = 2 w (uB - uA) sn cn dn; where sin(theta)
+        // vanishes at a vertical passage the factor sn or cn cancels analytically.
+        let mut num = [sn, cn];
+        let mut den = 1.0;
+        for (x_a, x_b, x) in [(ta.om, tb.om, om), (ta.op, tb.op, op)] {
+            if x_a == 0.0 {
+                num[0] = 1.0;
+                den *= x_b.sqrt();
+            } else if x_b == 0.0 {
+                num[1] = 1.0;
+                den *= x_a.sqrt();
+            } else {
+                den *= x.sqrt();
+            }
+        }
+        let dab = tb.u - ta.u;
+        let theta_dot = if den == 0.0 {
+            0.0
+        } else {
+            -2.0 * self.w * dab * num[0] * num[1] * dn / den
+        };
+        let ratio = |c: f64, x: f64| if c == 0.0 { 0.0 } else { c / x };
+        let tp = ratio(self.db, om) * 0.5;
+        let tm = ratio(self.sb, op) * 0.5;
+        let phi_dot = tp + tm;
+        let psi_dot = spin_lin - tp + tm;
+        let ip = if self.cp == 0.0 {
+            0.0
+        } else {
+            self.cp * pi_of_tau(rho, sn, cn, dn, self.np, self.np1)?
+        };
+        let im = if self.cm == 0.0 {
+            0.0
+        } else {
+            self.cm * pi_of_tau(rho, sn, cn, dn, self.nm, self.nm1)?
+        };
+        Ok([
+            theta,
+            theta_dot,
+            (ip + im) / self.w,
+            (im - ip) / self.w,
+            phi_dot,
+            psi_dot,
+        ])
+    }
+}
+
+/// A state with theta at 0 or pi moving out of [0, pi] is rewritten as the same orientation
+/// seen from the other side: (phi + pi, theta, psi - pi) with the rate of theta reversed.
+fn normalise(s: &EulerState) -> EulerState {
+    if (s.theta == 0.0 && s.theta_dot < 0.0) || (s.theta == PI && s.theta_dot > 0.0) {
+        EulerState {
+            phi: s.phi + PI,
+            psi: s.psi - PI,
+            theta_dot: -s.theta_dot,
+            ..*s
+        }
+    } else {
+        *s
+    }
+}
+
+/// Builds a turning point from its offset `delta = u - u0`, refining it in the variable
+/// 1 - u or 1 + u when it lies closer to the vertical than to u0 (so that the distance to
+/// the vertical keeps full relative precision).
+#[allow(clippy::too_many_arguments)]
+fn turn(
+    u0: f64,
+    om0: f64,
+    op0: f64,
+    delta: f64,
+    db: f64,
+    sb: f64,
+    beta: f64,
+    a: f64,
+    a0: f64,
+) -> Turn {
+    let mut om = om0 - delta;
+    let mut op = op0 + delta;
+    if delta > 0.0 && om < delta {
+        // f(1 - e) = -db^2 + e (2 D - 2 a db) + e^2 (2 beta - D - a^2) - beta e^3,
+        // D = alpha - beta = a0 - beta (1 - u0).
+        let d = a0 - beta * om0;
+        let q = Poly3([
+            -db * db,
+            2.0 * d - 2.0 * a * db,
+            2.0 * beta - d - a * a,
+            -beta,
+        ]);
+        om = refine(&q, om, om0);
+        op = 2.0 - om;
+    } else if delta < 0.0 && op < -delta {
+        // f(-1 + e) = -sb^2 + e (2 S + 2 a sb) + e^2 (-2 beta - S - a^2) + beta e^3,
+        // S = alpha + beta = a0 + beta (1 + u0).
+        let s = a0 + beta * op0;
+        let q = Poly3([
+            -sb * sb,
+            2.0 * s + 2.0 * a * sb,
+            -2.0 * beta - s - a * a,
+            beta,
+        ]);
+        op = refine(&q, op, op0);
+        om = 2.0 - op;
+    }
+    let u = if u0 + delta >= 0.0 {
+        1.0 - om
+    } else {
+        op - 1.0
+    };
+    Turn {
+        u,
+        om: om.max(0.0),
+        op: op.max(0.0),
+        delta,
+    }
+}
+
+/// Refines a root `e` in [0, e_max] of `q` (q(0) <= 0 <= q(e_max)) near the guess.
+fn refine(q: &Poly3, guess: f64, e_max: f64) -> f64 {
+    if q.eval(0.0) == 0.0 && guess <= 4.0 * f64::EPSILON {
+        return 0.0;
+    }
+    let width = 64.0 * f64::EPSILON * e_max.max(1e-300);
+    let lo = (guess - width).max(0.0);
+    let hi = (guess + width).min(e_max);
+    let (qa, qb) = (q.eval(lo), q.eval(hi));
+    if qa <= 0.0 && qb >= 0.0 {
+        q.root_in(lo, hi)
+    } else if q.eval(0.0) <= 0.0 && q.eval(e_max) >= 0.0 {
+        q.root_in(0.0, e_max)
+    } else {
+        guess
+    }
+}

@@ -1,0 +1,3 @@
+//! The tops: parameters, states, and what can be said of them exactly.
+
+pub mod lagrange;

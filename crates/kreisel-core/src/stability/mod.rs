@@ -1,0 +1,3 @@
+//! Stability of stationary motions.
+
+pub mod steady_precession;

@@ -105,19 +105,17 @@ class MpMotion:
         self.dps = dps
         with mpmath.workdps(dps):
             mpf = mpmath.mpf
-            i1, i3, m, l, g = (mpf(x) for x in (p.I1, p.I3, p.m, p.l, p.g))
+            i1, i3, mgl = mpf(p.I1), mpf(p.I3), mpf(p.m) * mpf(p.g) * mpf(p.l)
             th, thd, phd, psd = (mpf(x) for x in (st.theta, st.theta_dot, st.phi_dot, st.psi_dot))
             u0 = mpmath.cos(th)
             s0 = mpmath.sin(th)
             omega3 = psd + phd * u0
             m3 = i3 * omega3
             mz = i1 * phd * s0**2 + m3 * u0
-            energy = (
-                i1 / 2 * (thd**2 + phd**2 * s0**2) + i3 / 2 * omega3**2 + m * g * l * u0
-            )
+            energy = i1 / 2 * (thd**2 + phd**2 * s0**2) + i3 / 2 * omega3**2 + mgl * u0
             self.a = a = m3 / i1
             self.b = b = mz / i1
-            self.beta = beta = 2 * m * g * l / i1
+            self.beta = beta = 2 * mgl / i1
             self.alpha = alpha = 2 * (energy - m3**2 / (2 * i3)) / i1
             self.i1_over_i3 = i1 / i3
             self.u0 = u0
@@ -125,9 +123,9 @@ class MpMotion:
             # f(u) = beta u^3 - (alpha + a^2) u^2 + (2 a b - beta) u + (alpha - b^2)
             c3, c2, c1, c0 = beta, -(alpha + a**2), 2 * a * b - beta, alpha - b**2
             if beta != 0:
-                roots = mpmath.polyroots([c3, c2, c1, c0], maxsteps=200, extraprec=200)
+                roots = mpmath.polyroots([c0, c1, c2, c3], maxsteps=200, extraprec=200, asc=True)
             else:
-                roots = mpmath.polyroots([c2, c1, c0], maxsteps=200, extraprec=200)
+                roots = mpmath.polyroots([c0, c1, c2], maxsteps=200, extraprec=200, asc=True)
             assert all(abs(mpmath.im(r)) < mpf(10) ** (-dps // 2) for r in roots), roots
             roots = sorted(mpmath.re(r) for r in roots)
             if beta > 0:
@@ -398,9 +396,7 @@ def free_top_matrices(p: Params, st: Start, t):
 
 def axis_angle(axis, angle):
     angle = np.asarray(angle, dtype=float)
-    k = np.array(
-        [[0.0, -axis[2], axis[1]], [axis[2], 0.0, -axis[0]], [-axis[1], axis[0], 0.0]]
-    )
+    k = np.array([[0.0, -axis[2], axis[1]], [axis[2], 0.0, -axis[0]], [-axis[1], axis[0], 0.0]])
     s = np.sin(angle)[..., None, None]
     c = np.cos(angle)[..., None, None]
     return np.eye(3) + s * k + (1 - c) * (k @ k)

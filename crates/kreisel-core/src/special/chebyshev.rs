@@ -10,7 +10,7 @@ use crate::error::{KreiselError, Result};
 use std::f64::consts::PI;
 
 /// Polynomial degree of every segment.
-pub const DEG: usize = 12;
+pub const DEG: usize = 8;
 const NODES: usize = DEG + 1;
 
 /// NF functions interpolated on one interval.
@@ -35,7 +35,7 @@ impl<const NF: usize> Piecewise<NF> {
     where
         F: FnMut(f64) -> Result<[f64; NF]>,
     {
-        if !(lo < hi) || !lo.is_finite() || !hi.is_finite() {
+        if lo.is_nan() || hi.is_nan() || lo >= hi || !lo.is_finite() || !hi.is_finite() {
             return Err(KreiselError::Numerical(format!(
                 "interpolation interval [{lo}, {hi}] is empty or infinite"
             )));
@@ -106,7 +106,7 @@ impl<const NF: usize> Piecewise<NF> {
     }
 
     /// Values of all functions at `x` (clamped into the interval).
-    #[inline]
+    #[inline(always)]
     pub fn eval(&self, x: f64) -> [f64; NF] {
         let x = x.clamp(self.lo, self.hi);
         let cell = (((x - self.lo) * self.inv_cell) as usize).min(self.lookup.len() - 1);
@@ -121,7 +121,7 @@ impl<const NF: usize> Piecewise<NF> {
         let mut acc = rows[0];
         for row in &rows[1..] {
             for k in 0..NF {
-                acc[k] = acc[k].mul_add(t, row[k]);
+                acc[k] = acc[k] * t + row[k];
             }
         }
         acc
@@ -170,7 +170,7 @@ fn monomial<const NF: usize>(cheb: &[[f64; NF]; NODES]) -> [[f64; NF]; NODES] {
         out[0][k] += cheb[0][k];
         out[1][k] += cheb[1][k];
     }
-    for n in 2..NODES {
+    for cheb_n in cheb.iter().skip(2) {
         let mut t_next = [0.0f64; NODES];
         for i in 0..NODES {
             let shifted = if i > 0 { 2.0 * t_cur[i - 1] } else { 0.0 };
@@ -179,7 +179,7 @@ fn monomial<const NF: usize>(cheb: &[[f64; NF]; NODES]) -> [[f64; NF]; NODES] {
         for (i, &tn) in t_next.iter().enumerate() {
             if tn != 0.0 {
                 for k in 0..NF {
-                    out[i][k] += cheb[n][k] * tn;
+                    out[i][k] += cheb_n[k] * tn;
                 }
             }
         }

@@ -23,7 +23,7 @@ pub fn rj(x: f64, y: f64, z: f64, p: f64) -> Result<f64> {
 
 /// Complete elliptic integral of the first kind K(m).
 pub fn ellipk(m: f64) -> Result<f64> {
-    if !(m <= 1.0) {
+    if m.is_nan() || m > 1.0 {
         return Err(KreiselError::invalid("m", m, "the parameter must be <= 1"));
     }
     if m >= 0.0 {

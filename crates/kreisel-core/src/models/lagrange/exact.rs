@@ -196,7 +196,7 @@ impl LagrangeExact {
             out.small_freq = w4.max(0.0).sqrt();
             return Ok(out);
         }
-        if !(w4 > 0.0) {
+        if w4.is_nan() || w4 <= 0.0 {
             return Err(KreiselError::Numerical(format!(
                 "nutation frequency squared {w4} is not positive"
             )));
@@ -288,10 +288,11 @@ impl LagrangeExact {
             // Interpolate to round-off; fall back to direct evaluation if that fails.
             nut.interp = Piecewise::<6>::build(0.0, kk, |x| nut.row(x, spin_lin), 1e-14, 26).ok();
         }
-        let (_, _, pt, qt, cr) = nut.totals(tau0, spin_lin)?;
-        nut.phi_tot0 = pt;
-        nut.psi_tot0 = qt;
-        nut.cross0 = cr;
+        let (j0, sgn0, rho0) = nut.reduce(tau0);
+        let v0 = nut.row(rho0, spin_lin)?;
+        nut.phi_tot0 = 2.0 * j0 * nut.phi_k + sgn0 * v0[2];
+        nut.psi_tot0 = 2.0 * j0 * nut.psi_k + sgn0 * v0[3];
+        nut.cross0 = nut.crossings(tau0);
         out.nut = Some(nut);
         Ok(out)
     }
@@ -370,27 +371,29 @@ impl LagrangeExact {
             });
         };
         let tau = n.w * t + n.tau0;
-        let (theta, theta_dot, pt, qt, cr) = if fast && n.interp.is_some() {
-            n.totals_fast(tau)
-        } else {
-            n.totals(tau, self.spin_lin)?
+        let rho = n.reduce(tau).2;
+        let v = match (&n.interp, fast) {
+            (Some(p), true) => p.eval(rho),
+            _ => n.row(rho, self.spin_lin)?,
         };
-        let rates = if fast && n.interp.is_some() {
-            let v = n.interp.as_ref().unwrap().eval(n.reduce(tau).2);
-            (v[4], v[5])
-        } else {
-            let r = n.row(n.reduce(tau).2, self.spin_lin)?;
-            (r[4], r[5])
-        };
-        let jumps = cr - n.cross0;
-        Ok(EulerState {
-            theta,
-            theta_dot,
-            phi: s.phi + (pt - n.phi_tot0) + PI * jumps,
-            psi: s.psi + self.spin_lin * t + (qt - n.psi_tot0) - PI * jumps,
-            phi_dot: rates.0,
-            psi_dot: rates.1,
-        })
+        Ok(self.assemble(n, t, tau, &v))
+    }
+
+    /// The state at time t from the half-period values `v` at tau = w t + tau0.
+    #[inline(always)]
+    fn assemble(&self, n: &Nutation, t: f64, tau: f64, v: &Row) -> EulerState {
+        let s = &self.state;
+        let (j, sgn, _) = n.reduce(tau);
+        let jumps = n.crossings(tau) - n.cross0;
+        EulerState {
+            theta: v[0],
+            theta_dot: sgn * v[1],
+            phi: s.phi + (2.0 * j * n.phi_k + sgn * v[2] - n.phi_tot0) + PI * jumps,
+            psi: s.psi + self.spin_lin * t + (2.0 * j * n.psi_k + sgn * v[3] - n.psi_tot0)
+                - PI * jumps,
+            phi_dot: v[4],
+            psi_dot: v[5],
+        }
     }
 
     /// Evaluates at many times into the six output slices (theta, phi, psi, theta_dot,
@@ -399,20 +402,15 @@ impl LagrangeExact {
         let [th, ph, ps, thd, phd, psd] = out;
         if let Some(n) = self.nut.as_ref().filter(|n| n.interp.is_some()) {
             let interp = n.interp.as_ref().unwrap();
-            let s = &self.state;
             for (i, &ti) in t.iter().enumerate() {
                 let tau = n.w * ti + n.tau0;
-                let (j, sgn, rho) = n.reduce(tau);
-                let v = interp.eval(rho);
-                let cr = n.crossings(tau);
-                let jumps = cr - n.cross0;
-                th[i] = v[0];
-                thd[i] = sgn * v[1];
-                ph[i] = s.phi + (2.0 * j * n.phi_k + sgn * v[2] - n.phi_tot0) + PI * jumps;
-                ps[i] = s.psi + self.spin_lin * ti + (2.0 * j * n.psi_k + sgn * v[3] - n.psi_tot0)
-                    - PI * jumps;
-                phd[i] = v[4];
-                psd[i] = v[5];
+                let e = self.assemble(n, ti, tau, &interp.eval(n.reduce(tau).2));
+                th[i] = e.theta;
+                ph[i] = e.phi;
+                ps[i] = e.psi;
+                thd[i] = e.theta_dot;
+                phd[i] = e.phi_dot;
+                psd[i] = e.psi_dot;
             }
             return Ok(());
         }
@@ -436,7 +434,7 @@ impl Nutation {
         if self.kk.is_infinite() {
             return (0.0, if tau < 0.0 { -1.0 } else { 1.0 }, tau.abs());
         }
-        let j = (tau / (2.0 * self.kk)).round();
+        let j = round_fast(tau / (2.0 * self.kk));
         let r = tau - 2.0 * self.kk * j;
         let sgn = if r < 0.0 { -1.0 } else { 1.0 };
         (j, sgn, r.abs().min(self.kk))
@@ -451,37 +449,12 @@ impl Nutation {
         let p = 2.0 * self.kk;
         let mut c = 0.0;
         if self.cross_a {
-            c += (tau / p).floor();
+            c += floor_fast(tau / p);
         }
         if self.cross_b {
-            c += ((tau - self.kk) / p).floor();
+            c += floor_fast((tau - self.kk) / p);
         }
         c
-    }
-
-    #[inline]
-    fn totals_fast(&self, tau: f64) -> (f64, f64, f64, f64, f64) {
-        let (j, sgn, rho) = self.reduce(tau);
-        let v = self.interp.as_ref().unwrap().eval(rho);
-        (
-            v[0],
-            sgn * v[1],
-            2.0 * j * self.phi_k + sgn * v[2],
-            2.0 * j * self.psi_k + sgn * v[3],
-            self.crossings(tau),
-        )
-    }
-
-    fn totals(&self, tau: f64, spin_lin: f64) -> Result<(f64, f64, f64, f64, f64)> {
-        let (j, sgn, rho) = self.reduce(tau);
-        let v = self.row(rho, spin_lin)?;
-        Ok((
-            v[0],
-            sgn * v[1],
-            2.0 * j * self.phi_k + sgn * v[2],
-            2.0 * j * self.psi_k + sgn * v[3],
-            self.crossings(tau),
-        ))
     }
 
     /// Direct evaluation at rho in [0, K] (any rho >= 0 on the separatrix).
@@ -538,6 +511,33 @@ impl Nutation {
             phi_dot,
             psi_dot,
         ])
+    }
+}
+
+/// Nearest integer, by truncating conversion (the libm call behind `f64::round` costs more
+/// than the rest of an evaluation on baseline x86-64). Exact for |x| < 2^52.
+#[inline]
+fn round_fast(x: f64) -> f64 {
+    let y = x.abs() + 0.5;
+    let r = if y < 4.5e15 {
+        (y as i64) as f64
+    } else {
+        x.abs()
+    };
+    r.copysign(x)
+}
+
+/// Floor by truncating conversion, exact for |x| < 2^52.
+#[inline]
+fn floor_fast(x: f64) -> f64 {
+    if x.abs() >= 4.5e15 {
+        return x;
+    }
+    let t = (x as i64) as f64;
+    if t > x {
+        t - 1.0
+    } else {
+        t
     }
 }
 
@@ -626,5 +626,29 @@ fn refine(q: &Poly3, guess: f64, e_max: f64) -> f64 {
         q.root_in(0.0, e_max)
     } else {
         guess
+    }
+}
+
+impl LagrangeExact {
+    /// Evaluates at many times, in parallel over the machine's cores for long inputs.
+    /// Returns (theta, phi, psi, theta_dot, phi_dot, psi_dot), each as long as `t`.
+    pub fn eval_many(&self, t: &[f64]) -> Result<[Vec<f64>; 6]> {
+        use rayon::prelude::*;
+        const CHUNK: usize = 16_384;
+        let n = t.len();
+        let mut out: [Vec<f64>; 6] = std::array::from_fn(|_| vec![0.0; n]);
+        let [a, b, c, d, e, f] = &mut out;
+        let chunks = a
+            .par_chunks_mut(CHUNK)
+            .zip(b.par_chunks_mut(CHUNK))
+            .zip(c.par_chunks_mut(CHUNK))
+            .zip(d.par_chunks_mut(CHUNK))
+            .zip(e.par_chunks_mut(CHUNK))
+            .zip(f.par_chunks_mut(CHUNK))
+            .zip(t.par_chunks(CHUNK));
+        chunks.try_for_each(|((((((a, b), c), d), e), f), t)| {
+            self.eval_into(t, [a, b, c, d, e, f])
+        })?;
+        Ok(out)
     }
 }

@@ -1,0 +1,54 @@
+# kreisel: every routine command. `make demo` and `make test` set up a fresh machine
+# themselves: a virtual environment in .venv, the Python dependencies, and the compiled
+# extension in release mode.
+
+PYTHON ?= python3
+VENV   := .venv
+PY     := $(VENV)/bin/python
+DEPS   := $(VENV)/.deps-installed
+EXT    := $(VENV)/.ext-built
+RUST_SOURCES := $(shell find crates -name '*.rs' -o -name Cargo.toml) Cargo.toml pyproject.toml
+
+.PHONY: demo test test-rust test-python bench lint fmt clean setup
+
+setup: $(EXT)
+
+$(PY):
+	$(PYTHON) -m venv $(VENV)
+
+$(DEPS): pyproject.toml requirements-dev.txt | $(PY)
+	$(PY) -m pip install --quiet --upgrade pip
+	$(PY) -m pip install --quiet -r requirements-dev.txt
+	touch $@
+
+$(EXT): $(DEPS) $(RUST_SOURCES)
+	@command -v cargo >/dev/null || { echo "cargo (Rust) is required: https://rustup.rs"; exit 1; }
+	$(VENV)/bin/maturin develop --release --quiet
+	touch $@
+
+demo: $(EXT)
+	$(VENV)/bin/kreisel demo
+
+test: $(EXT) test-rust test-python
+
+test-rust:
+	cargo test --quiet
+
+test-python: $(EXT)
+	$(PY) -m pytest -q
+
+bench: $(EXT)
+	$(PY) benchmarks/bench_exact.py
+
+lint: $(DEPS)
+	cargo clippy --all-targets -- -D warnings
+	cargo fmt --check
+	$(VENV)/bin/ruff check python tests benchmarks examples
+	$(VENV)/bin/ruff format --check python tests benchmarks examples
+
+fmt: $(DEPS)
+	cargo fmt
+	$(VENV)/bin/ruff format python tests benchmarks examples
+
+clean:
+	rm -rf $(VENV) target kreisel-out

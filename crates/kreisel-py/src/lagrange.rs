@@ -1,0 +1,125 @@
+//! Bindings of the Lagrange top: conversion only, physics stays in the core.
+
+use crate::errors::IntoPyResult;
+use kreisel_core::models::lagrange::{EulerState, LagrangeExact, LagrangeTop};
+use kreisel_core::stability::steady_precession as sp;
+use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+type StateTuple = (f64, f64, f64, f64, f64, f64);
+
+fn state(py: Python<'_>, s: StateTuple) -> PyResult<EulerState> {
+    EulerState::new(s.0, s.1, s.2, s.3, s.4, s.5).py(py)
+}
+
+/// The native Lagrange top (parameters only).
+#[pyclass(name = "LagrangeTop", module = "kreisel._core", frozen)]
+pub struct PyLagrangeTop {
+    inner: LagrangeTop,
+}
+
+#[pymethods]
+impl PyLagrangeTop {
+    #[new]
+    fn new(py: Python<'_>, i1: f64, i3: f64, m: f64, l: f64, g: f64) -> PyResult<Self> {
+        Ok(PyLagrangeTop {
+            inner: LagrangeTop::new(i1, i3, m, l, g).py(py)?,
+        })
+    }
+
+    /// Validates a state given as (theta, phi, psi, theta_dot, phi_dot, psi_dot).
+    fn check_state(&self, py: Python<'_>, s: StateTuple) -> PyResult<()> {
+        state(py, s).map(|_| ())
+    }
+
+    /// (E, Mz, M3) of a state.
+    fn invariants(&self, py: Python<'_>, s: StateTuple) -> PyResult<(f64, f64, f64)> {
+        let inv = self.inner.invariants(&state(py, s)?);
+        Ok((inv.energy, inv.mz, inv.m3))
+    }
+
+    /// Effective potential at each theta.
+    fn effective_potential<'py>(
+        &self,
+        py: Python<'py>,
+        theta: PyReadonlyArray1<'py, f64>,
+        mz: f64,
+        m3: f64,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let th = theta.as_slice()?;
+        let v: Vec<f64> = th
+            .iter()
+            .map(|&x| self.inner.effective_potential(x, mz, m3))
+            .collect();
+        Ok(v.into_pyarray(py))
+    }
+
+    /// Analysis of the motion from a state: kind, turning points, period, mean rate.
+    fn analyse<'py>(&self, py: Python<'py>, s: StateTuple) -> PyResult<Bound<'py, PyDict>> {
+        let ex = LagrangeExact::new(&self.inner, &state(py, s)?).py(py)?;
+        let d = PyDict::new(py);
+        let (tmin, tmax) = ex.turning_points();
+        d.set_item("kind", ex.kind().name())?;
+        d.set_item("theta_min", tmin)?;
+        d.set_item("theta_max", tmax)?;
+        d.set_item("nutation_period", ex.nutation_period())?;
+        d.set_item("mean_precession_rate", ex.mean_precession_rate())?;
+        d.set_item("segments", ex.segments())?;
+        Ok(d)
+    }
+
+    /// The exact motion at times `t`: (theta, phi, psi, theta_dot, phi_dot, psi_dot).
+    /// `direct=True` evaluates every time with elliptic functions (slow; for checks).
+    #[pyo3(signature = (s, t, direct=false))]
+    #[allow(clippy::type_complexity)]
+    fn exact<'py>(
+        &self,
+        py: Python<'py>,
+        s: StateTuple,
+        t: PyReadonlyArray1<'py, f64>,
+        direct: bool,
+    ) -> PyResult<Vec<Bound<'py, PyArray1<f64>>>> {
+        let st = state(py, s)?;
+        let ts = t.as_slice()?;
+        let ex = LagrangeExact::new(&self.inner, &st).py(py)?;
+        let cols = py
+            .detach(|| {
+                if direct {
+                    let mut out: [Vec<f64>; 6] = std::array::from_fn(|_| vec![0.0; ts.len()]);
+                    for (i, &ti) in ts.iter().enumerate() {
+                        let e = ex.at_direct(ti)?;
+                        for (k, v) in [e.theta, e.phi, e.psi, e.theta_dot, e.phi_dot, e.psi_dot]
+                            .into_iter()
+                            .enumerate()
+                        {
+                            out[k][i] = v;
+                        }
+                    }
+                    Ok(out)
+                } else {
+                    ex.eval_many(ts)
+                }
+            })
+            .py(py)?;
+        Ok(cols.into_iter().map(|c| c.into_pyarray(py)).collect())
+    }
+
+    fn steady_precession(&self, py: Python<'_>, theta0: f64, omega3: f64) -> PyResult<Vec<f64>> {
+        sp::steady_precession_rates(&self.inner, theta0, omega3).py(py)
+    }
+
+    fn nutation_frequency(
+        &self,
+        py: Python<'_>,
+        theta0: f64,
+        omega3: f64,
+        rate: f64,
+    ) -> PyResult<f64> {
+        sp::nutation_frequency(&self.inner, theta0, omega3, rate).py(py)
+    }
+
+    fn sleeping_threshold(&self) -> f64 {
+        sp::sleeping_threshold(&self.inner)
+    }
+}

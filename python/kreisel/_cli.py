@@ -1,0 +1,88 @@
+"""The ``kreisel`` command line."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+
+def _demo(out: Path) -> int:
+    import numpy as np
+
+    from . import LagrangeTop
+
+    out.mkdir(parents=True, exist_ok=True)
+    # A toy top: 100 g, centre of mass 4 cm above the tip, spun at 400 rad/s (about 64 Hz).
+    top = LagrangeTop(I1=1.75e-4, I3=2.0e-5, m=0.1, l=0.04, g=9.81)
+    theta0, spin = 0.6, 300.0
+    print(f"kreisel demo: {top!r}")
+    print(f"  sleeping threshold: omega3 > {top.sleeping_threshold():.2f} rad/s")
+    rates = top.steady_precession(theta0, spin)
+    print(f"  steady precession at theta = {theta0} rad, omega3 = {spin} rad/s:")
+    for r in rates:
+        w = top.nutation_frequency(theta0, spin, r)
+        print(f"    Omega = {r:10.4f} rad/s, small nutations at {w:9.3f} rad/s")
+    cases = {
+        "waves": top.state(theta0, phi_dot=0.3 * rates[0], psi_dot=spin),
+        "cusps": top.state(theta0, psi_dot=spin),
+        "loops": top.state(theta0, phi_dot=-0.5 * rates[0], psi_dot=spin),
+    }
+    rows = []
+    for name, st in cases.items():
+        a = top.analyse(st)
+        inv = top.invariants(st)
+        rows.append((name, st, a))
+        print(f"  start {name}: {st}")
+        print(f"    E = {inv.E:.6g} J, Mz = {inv.Mz:.6g}, M3 = {inv.M3:.6g} kg m^2/s")
+        print(
+            f"    kind {a.kind}; theta in [{a.theta_min:.5f}, {a.theta_max:.5f}] rad; "
+            f"nutation period {a.nutation_period:.5f} s; "
+            f"mean precession {a.mean_precession_rate:.5f} rad/s"
+        )
+    from . import plot
+
+    plt = plot._pyplot()
+    fig = plt.figure(figsize=(13, 8.5))
+    for i, (_name, st, a) in enumerate(rows):
+        ax = fig.add_subplot(2, 3, i + 1, projection="3d")
+        # One revolution of the mean precession.
+        t = np.linspace(0.0, 2.0 * np.pi / abs(a.mean_precession_rate), 6000)
+        traj = top.exact(st, t)
+        plot.axis_path_on_sphere(traj, ax=ax, color=f"C{i}")
+        ax.set_title(f"{a.kind}: tip of the figure axis")
+        ax.view_init(elev=40, azim=-60)
+        ax2 = fig.add_subplot(2, 3, i + 4)
+        plot.axis_path_plan(traj, ax=ax2, color=f"C{i}")
+        ax2.set_title(f"{a.kind}, seen from above (one precession turn)")
+    fig.tight_layout()
+    path = out / "lagrange_axis_paths.png"
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    fig, ax = plt.subplots(figsize=(6, 4))
+    plot.effective_potential(top, cases["cusps"], ax=ax)
+    ax.set_title("Effective potential, cusp start")
+    fig.tight_layout()
+    path2 = out / "lagrange_effective_potential.png"
+    fig.savefig(path2, dpi=110)
+    plt.close(fig)
+    print(f"wrote {path} and {path2}")
+    return 0
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(prog="kreisel", description="Dynamics of spinning tops.")
+    from . import __version__
+
+    parser.add_argument("--version", action="version", version=f"kreisel {__version__}")
+    sub = parser.add_subparsers(dest="command", required=True)
+    demo = sub.add_parser("demo", help="analyse built-in tops and write figures")
+    demo.add_argument("--out", type=Path, default=Path("kreisel-out"), help="output folder")
+    args = parser.parse_args(argv)
+    if args.command == "demo":
+        return _demo(args.out)
+    return 2  # pragma: no cover
+
+
+if __name__ == "__main__":
+    sys.exit(main())

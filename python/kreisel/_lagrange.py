@@ -1,0 +1,177 @@
+"""The Lagrange top: a heavy symmetric top on a fixed pivot, solved exactly."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from . import _core
+from ._state import EulerState, Invariants, NutationAnalysis
+from ._trajectory import Trajectory
+from ._validate import real, times
+
+
+class LagrangeTop:
+    """A heavy symmetric top on a fixed frictionless pivot, centre of mass on the figure axis.
+
+    Parameters
+    ----------
+    I1 : float
+        Moment of inertia about any axis through the pivot perpendicular to the figure
+        axis (kg m^2). Must be > 0 and >= m l^2 (parallel-axis theorem).
+    I3 : float
+        Moment of inertia about the figure axis (kg m^2); 0 < I3 <= 2 I1.
+    m : float
+        Mass (kg), > 0.
+    l : float
+        Distance from the pivot to the centre of mass along the figure axis (m). 0 means no
+        torque; negative puts the centre of mass below the pivot when theta = 0.
+    g : float
+        Gravitational acceleration (m/s^2), >= 0.
+
+    Euler angles are z-x-z with theta from the upward vertical, so V = m g l cos(theta).
+    Source: the seed ``lagrange-top.txt`` and the project's PHYSICS notes, section 1.
+    """
+
+    __slots__ = ("_I1", "_I3", "_m", "_l", "_g", "_native")
+
+    def __init__(self, I1, I3, m, l, g=9.81):  # noqa: E741 (l is the physics name)
+        values = {k: real(k, v) for k, v in dict(I1=I1, I3=I3, m=m, l=l, g=g).items()}
+        self._native = _core.LagrangeTop(
+            values["I1"], values["I3"], values["m"], values["l"], values["g"]
+        )
+        self._I1, self._I3, self._m, self._l, self._g = values.values()
+
+    I1 = property(lambda self: self._I1, doc="Transverse moment about the pivot (kg m^2).")
+    I3 = property(lambda self: self._I3, doc="Axial moment (kg m^2).")
+    m = property(lambda self: self._m, doc="Mass (kg).")
+    l = property(lambda self: self._l, doc="Pivot to centre of mass (m).")  # noqa: E741
+    g = property(lambda self: self._g, doc="Gravitational acceleration (m/s^2).")
+
+    def __repr__(self) -> str:
+        return (
+            f"LagrangeTop(I1={self._I1!r}, I3={self._I3!r}, m={self._m!r}, "
+            f"l={self._l!r}, g={self._g!r})"
+        )
+
+    def __eq__(self, other) -> bool:
+        return isinstance(other, LagrangeTop) and repr(self) == repr(other)
+
+    def __hash__(self) -> int:
+        return hash(repr(self))
+
+    # -- states and invariants -------------------------------------------------------------
+
+    def state(self, theta, phi=0.0, psi=0.0, theta_dot=0.0, phi_dot=0.0, psi_dot=0.0):
+        """A state in Euler angles (rad) and rates (rad/s); theta in [0, pi].
+
+        Returns
+        -------
+        EulerState
+        """
+        s = EulerState(
+            theta=real("theta", theta),
+            phi=real("phi", phi),
+            psi=real("psi", psi),
+            theta_dot=real("theta_dot", theta_dot),
+            phi_dot=real("phi_dot", phi_dot),
+            psi_dot=real("psi_dot", psi_dot),
+        )
+        self._native.check_state(s.as_tuple())
+        return s
+
+    def _tuple(self, state) -> tuple:
+        if not isinstance(state, EulerState):
+            raise TypeError(
+                f"state must be an EulerState (from top.state(...)), not {type(state).__name__}"
+            )
+        return state.as_tuple()
+
+    def invariants(self, state) -> Invariants:
+        """Energy E (J), vertical angular momentum Mz and axial M3 (kg m^2/s) of a state."""
+        return Invariants(*self._native.invariants(self._tuple(state)))
+
+    def effective_potential(self, theta, Mz, M3):
+        """Effective potential of the nutation (J), vectorised over ``theta`` (rad).
+
+        ``Veff = m g l cos(theta) + (Mz - M3 cos(theta))^2 / (2 I1 sin^2(theta)) + M3^2/(2 I3)``,
+        so that ``E = I1 theta_dot^2 / 2 + Veff(theta)``. (The seed also subtracts
+        ``M3^2/(2 I1)``; that term is wrong: it is absent from the energy.)
+        """
+        Mz, M3 = real("Mz", Mz), real("M3", M3)
+        arr = np.asarray(theta, dtype=np.float64)
+        out = self._native.effective_potential(np.ascontiguousarray(arr.ravel()), Mz, M3)
+        if arr.ndim == 0:
+            return float(out[0])
+        return out.reshape(arr.shape)
+
+    # -- analysis of the motion from a state -----------------------------------------------
+
+    def analyse(self, state) -> NutationAnalysis:
+        """Kind of motion, turning points, nutation period and mean precession rate."""
+        d = self._native.analyse(self._tuple(state))
+        d.pop("segments")
+        return NutationAnalysis(**d)
+
+    def turning_points(self, state) -> tuple[float, float]:
+        """(theta_min, theta_max): the nutation's turning points (rad)."""
+        a = self.analyse(state)
+        return (a.theta_min, a.theta_max)
+
+    def nutation_period(self, state) -> float:
+        """Period of the nutation (s); ``inf`` on the separatrix. For a steady motion, the
+        limit period of small nutations about it."""
+        return self.analyse(state).nutation_period
+
+    def mean_precession_rate(self, state) -> float:
+        """Mean of phi_dot over a nutation period (rad/s)."""
+        return self.analyse(state).mean_precession_rate
+
+    def motion_kind(self, state) -> str:
+        """One of ``"sleeping"`` (theta = 0 always), ``"hanging"`` (theta = pi always),
+        ``"regular_precession"``, ``"waves"`` (phi_dot never zero), ``"cusps"`` (phi_dot = 0 at
+        a turning point), ``"loops"`` (phi_dot changes sign), ``"through_vertical"`` (the axis
+        passes through the vertical: Mz = +-M3), ``"asymptotic"`` (the separatrix: the axis
+        creeps up to the vertical in infinite time)."""
+        return self.analyse(state).kind
+
+    def exact(self, state, t, *, direct: bool = False) -> Trajectory:
+        """The exact motion from ``state`` (taken at t = 0) at times ``t`` (s, 1-D, any order).
+
+        Returns a :class:`Trajectory` with ``t``, ``theta``, ``phi``, ``psi``, ``theta_dot``,
+        ``phi_dot``, ``psi_dot``; phi and psi are continuous (unwrapped), except that where the
+        axis passes exactly through the vertical phi jumps by +pi and psi by -pi (Euler
+        angles are singular there; the orientation is continuous).
+
+        The solution is u = cos(theta) = uA cn^2 + uB sn^2 in Jacobi functions, phi and psi
+        incomplete elliptic integrals of the third kind; these are interpolated once per call
+        to round-off, so each time costs tens of nanoseconds. ``direct=True`` evaluates the
+        elliptic functions at every time instead (slow; for checks).
+        """
+        ts = times("t", t)
+        cols = self._native.exact(self._tuple(state), ts, direct)
+        names = ("theta", "phi", "psi", "theta_dot", "phi_dot", "psi_dot")
+        return Trajectory({"t": ts, **dict(zip(names, cols))}, model=self, state=state)
+
+    # -- steady precession and the sleeping top --------------------------------------------
+
+    def steady_precession(self, theta0, omega3) -> tuple[float, ...]:
+        """Steady precession rates (rad/s) at inclination ``theta0`` (rad) for axial spin
+        ``omega3 = psi_dot + phi_dot cos(theta)`` (rad/s), ascending; ``()`` when none exists.
+
+        They solve ``m g l = Omega (I3 omega3 - I1 Omega cos(theta0))``.
+        """
+        return tuple(self._native.steady_precession(real("theta0", theta0), real("omega3", omega3)))
+
+    def nutation_frequency(self, theta0, omega3, rate) -> float:
+        """Angular frequency (rad/s) of small nutations about the steady precession at
+        ``theta0`` with spin ``omega3`` and precession rate ``rate`` (one of
+        :meth:`steady_precession`): ``(a - 2 rate cos theta0)^2 + rate^2 sin^2 theta0`` under the
+        root, ``a = I3 omega3 / I1``."""
+        return self._native.nutation_frequency(
+            real("theta0", theta0), real("omega3", omega3), real("rate", rate)
+        )
+
+    def sleeping_threshold(self) -> float:
+        """Axial spin (rad/s) above which the upright spin is stable: ``sqrt(4 I1 m g l)/I3``
+        (``M3^2 > 4 I1 m g l``); 0 when ``m g l <= 0``."""
+        return self._native.sleeping_threshold()

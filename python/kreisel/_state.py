@@ -1,0 +1,64 @@
+"""States of tops: plain immutable values, separate from the models."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class EulerState:
+    """Orientation and rates in Euler angles (z-x-z; theta from the upward vertical).
+
+    Parameters
+    ----------
+    theta : float
+        Nutation angle from the upward vertical, in [0, pi] (rad).
+    phi, psi : float
+        Precession and spin angles (rad).
+    theta_dot, phi_dot, psi_dot : float
+        Their rates (rad/s).
+    """
+
+    theta: float
+    phi: float = 0.0
+    psi: float = 0.0
+    theta_dot: float = 0.0
+    phi_dot: float = 0.0
+    psi_dot: float = 0.0
+
+    def as_tuple(self) -> tuple[float, float, float, float, float, float]:
+        """(theta, phi, psi, theta_dot, phi_dot, psi_dot)."""
+        return (self.theta, self.phi, self.psi, self.theta_dot, self.phi_dot, self.psi_dot)
+
+
+@dataclass(frozen=True)
+class Invariants:
+    """The integrals of a Lagrange top: energy E (J), Mz and M3 (kg m^2/s)."""
+
+    E: float
+    Mz: float
+    M3: float
+
+
+@dataclass(frozen=True)
+class NutationAnalysis:
+    """What the exact solution says about a motion before any time is evaluated.
+
+    Attributes
+    ----------
+    kind : str
+        One of ``"sleeping"``, ``"hanging"``, ``"regular_precession"``, ``"waves"``,
+        ``"cusps"``, ``"loops"``, ``"through_vertical"``, ``"asymptotic"``.
+    theta_min, theta_max : float
+        Turning points of the nutation (rad).
+    nutation_period : float
+        Period of theta (s); ``inf`` on the separatrix.
+    mean_precession_rate : float
+        Mean of phi_dot over a nutation period (rad/s).
+    """
+
+    kind: str
+    theta_min: float
+    theta_max: float
+    nutation_period: float
+    mean_precession_rate: float

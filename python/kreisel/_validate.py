@@ -1,0 +1,41 @@
+"""Conversion of user input to floats and arrays, with errors that name the argument."""
+
+from __future__ import annotations
+
+import math
+import numbers
+
+import numpy as np
+
+from ._errors import ParameterError
+
+
+def real(name: str, value) -> float:
+    """``value`` as a finite Python float, or a ParameterError naming ``name``."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (numbers.Real, np.floating)):
+        raise ParameterError(f"{name} = {value!r} is not allowed: it must be a real number")
+    x = float(value)
+    if not math.isfinite(x):
+        raise ParameterError(f"{name} = {x} is not allowed: it must be a finite number")
+    return x
+
+
+def times(name: str, value) -> np.ndarray:
+    """``value`` as a contiguous 1-D float64 array of finite numbers (a scalar gives length 1)."""
+    try:
+        arr = np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise ParameterError(
+            f"{name} = {value!r} is not allowed: it must be a number or a 1-D array of numbers"
+        ) from None
+    if arr.ndim == 0:
+        arr = arr.reshape(1)
+    if arr.ndim != 1:
+        raise ParameterError(f"{name} has shape {arr.shape}, which is not allowed: it must be 1-D")
+    bad = ~np.isfinite(arr)
+    if bad.any():
+        i = int(np.argmax(bad))
+        raise ParameterError(
+            f"{name}[{i}] = {arr[i]} is not allowed: every time must be a finite number"
+        )
+    return np.ascontiguousarray(arr)

@@ -179,9 +179,12 @@ class MpMotion:
             return val if s_to >= s_from else -val
 
     # -- public -------------------------------------------------------------------------
+    def _dt(self, s):
+        return 2 / mpmath.sqrt(self._g(self.u_of_s(s)))
+
     def time(self, s):
         """Time (from the initial state) at which the motion reaches phase s."""
-        return self._quad(lambda x: self._rates(x)[1], self.s0, s)
+        return self._quad(self._dt, self.s0, s)
 
     def phi_advance(self, s):
         return self._quad(lambda x: self._rates(x)[1] * self._rates(x)[2], self.s0, s)
@@ -190,7 +193,7 @@ class MpMotion:
         return self._quad(lambda x: self._rates(x)[1] * self._rates(x)[3], self.s0, s)
 
     def period(self):
-        return self._quad(lambda x: self._rates(x)[1], 0, mpmath.pi)
+        return self._quad(self._dt, 0, mpmath.pi)
 
     def period_advances(self):
         """(T, delta phi, delta psi) over one full nutation period."""
@@ -203,7 +206,7 @@ class MpMotion:
     def udot(self, s):
         """du/dt at phase s: (u2 - u1) sin(2 s) ds/dt with ds/dt = sqrt(g(u)) / 2."""
         with mpmath.workdps(self.dps):
-            return (self.u2 - self.u1) * mpmath.sin(2 * s) / self._rates(s)[1]
+            return (self.u2 - self.u1) * mpmath.sin(2 * s) / self._dt(s)
 
     def phidot_at(self, u):
         return (self.b - self.a * u) / (1 - u * u)

@@ -398,8 +398,16 @@ def test_separatrix_asymptotic_to_vertical(sign, ref):
     late = traj.theta[num.t > t_end / 2 + (0 if sign < 0 else abs(c0) / lam)]
     assert np.all(np.diff(late) <= 0)
     assert traj.theta[-1] < 1e-3
-    far = top.exact(state, np.array([10 * t_end, 40 * t_end]))
+    # further on theta stays ~0 while phidot -> M3/(2 I1) and psidot -> M3/I3 - M3/(2 I1)
+    # (corrections ~ int (1 - u) dt ~ 1e-8 after t_end)
+    m3 = p.I3 * omega3
+    far_t = np.array([2.0, 10.0, 40.0]) * t_end
+    far = top.exact(state, far_t)
     assert np.all(far.theta < 1e-6)
+    phi_far = num.phi[-1] + m3 / (2 * p.I1) * (far_t - t_end)
+    psi_far = num.psi[-1] + (m3 / p.I3 - m3 / (2 * p.I1)) * (far_t - t_end)
+    assert_allclose(far.phi, phi_far, rtol=0, atol=1e-6)
+    assert_allclose(far.psi, psi_far, rtol=0, atol=1e-6)
 
 
 @pytest.mark.parametrize(("p", "omega3"), [(SYM, 1.0), (SYM, 6.0), (GYRO, 10.0)])
@@ -420,6 +428,10 @@ def test_through_vertical_orientation(p, omega3, ref):
     lo, hi = top.turning_points(state)
     assert lo == pytest.approx(0.0, abs=1e-9)
     assert hi == pytest.approx(math.acos(u1), abs=1e-10)
+    mm = ref.MpMotion(p, st)  # u oscillates in [u1, 1]: the quadrature still applies
+    assert float(mm.u2) == pytest.approx(1.0, abs=1e-25)
+    assert float(mm.u1) == pytest.approx(u1, abs=1e-12)
+    assert top.nutation_period(state) == pytest.approx(float(mm.period()), rel=1e-10)
 
     t = np.linspace(0.0, 25.0, 400)[1:]
     traj = top.exact(state, t)

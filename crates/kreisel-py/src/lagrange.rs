@@ -3,7 +3,7 @@
 use crate::errors::IntoPyResult;
 use kreisel_core::models::lagrange::{EulerState, LagrangeExact, LagrangeTop};
 use kreisel_core::stability::steady_precession as sp;
-use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1};
+use numpy::{IntoPyArray, PyArray1, PyArrayMethods, PyReadonlyArray1};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -83,26 +83,40 @@ impl PyLagrangeTop {
         let st = state(py, s)?;
         let ts = t.as_slice()?;
         let ex = LagrangeExact::new(&self.inner, &st).py(py)?;
-        let cols = py
-            .detach(|| {
+        // numpy's own allocation (huge pages for large arrays on Linux) spares the page
+        // faults that would otherwise cost as much as the evaluation.
+        let arrays: Vec<Bound<'py, PyArray1<f64>>> = (0..6)
+            .map(|_| unsafe { PyArray1::<f64>::new(py, ts.len(), false) })
+            .collect();
+        {
+            let mut views: Vec<_> = arrays.iter().map(|a| a.readwrite()).collect();
+            let mut slices: Vec<&mut [f64]> = Vec::with_capacity(6);
+            for v in views.iter_mut() {
+                slices.push(v.as_slice_mut()?);
+            }
+            let out: [&mut [f64]; 6] = slices
+                .try_into()
+                .map_err(|_| pyo3::exceptions::PyRuntimeError::new_err("six outputs"))?;
+            py.detach(|| {
                 if direct {
-                    let mut out: [Vec<f64>; 6] = std::array::from_fn(|_| vec![0.0; ts.len()]);
+                    let [th, ph, ps, thd, phd, psd] = out;
                     for (i, &ti) in ts.iter().enumerate() {
                         let e = ex.at_direct(ti)?;
-                        for (k, v) in [e.theta, e.phi, e.psi, e.theta_dot, e.phi_dot, e.psi_dot]
-                            .into_iter()
-                            .enumerate()
-                        {
-                            out[k][i] = v;
-                        }
+                        th[i] = e.theta;
+                        ph[i] = e.phi;
+                        ps[i] = e.psi;
+                        thd[i] = e.theta_dot;
+                        phd[i] = e.phi_dot;
+                        psd[i] = e.psi_dot;
                     }
-                    Ok(out)
+                    Ok(())
                 } else {
-                    ex.eval_many(ts)
+                    ex.eval_par_into(ts, out)
                 }
             })
             .py(py)?;
-        Ok(cols.into_iter().map(|c| c.into_pyarray(py)).collect())
+        }
+        Ok(arrays)
     }
 
     fn steady_precession(&self, py: Python<'_>, theta0: f64, omega3: f64) -> PyResult<Vec<f64>> {

@@ -31,6 +31,15 @@ use crate::special::elliptic::{ellipk_m1, pi_of_tau, rf};
 use crate::special::jacobi;
 use std::f64::consts::PI;
 
+/// Below this complementary parameter 1 - k^2 a motion is taken to be on the separatrix:
+/// its period would exceed 2 K / w with K > 17.7, and 1 - k^2 is then below what the
+/// rounding of a state's invariants can resolve.
+pub const SEPARATRIX_M1: f64 = 1e-13;
+
+/// A nutation whose amplitude in theta is at most this (rad) is called a regular
+/// precession: the rounding of a steady precession's rates leaves amplitudes near 1e-16.
+pub const STEADY_AMPLITUDE: f64 = 1e-11;
+
 /// The kinds of motion of a Lagrange top.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum MotionKind {
@@ -97,6 +106,8 @@ struct Nutation {
     w: f64,
     /// Half-period in tau, K(m); infinite on the separatrix.
     kk: f64,
+    /// 1 / (2 K)
+    inv_period: f64,
     tau0: f64,
     /// (b - a)/(2 (1 - uA)) and (b + a)/(2 (1 + uA)), zero where the numerator is zero.
     cp: f64,
@@ -142,10 +153,14 @@ impl LagrangeExact {
         let inv = top.invariants(&s);
         let a = inv.m3 / i1;
         let beta = 2.0 * top.mgl() / i1;
-        let (st, u0) = s.theta.sin_cos();
-        // 1 - u0 and 1 + u0 without cancellation.
-        let om0 = 2.0 * (0.5 * s.theta).sin().powi(2);
-        let op0 = 2.0 * (0.5 * s.theta).cos().powi(2);
+        // sin, cos, 1 - cos and 1 + cos of theta0, exact at the verticals.
+        let (st, u0, om0, op0) = if s.theta == PI {
+            (0.0, -1.0, 2.0, 0.0)
+        } else {
+            let (st, u0) = s.theta.sin_cos();
+            let (sh, ch) = (0.5 * s.theta).sin_cos();
+            (st, u0, 2.0 * sh * sh, 2.0 * ch * ch)
+        };
         // The gyro function about u0 (delta = u - u0): c0 = udot0^2 exactly.
         let a0 = s.theta_dot * s.theta_dot + (s.phi_dot * st).powi(2);
         let b0 = s.phi_dot * st * st; // = b - a u0
@@ -153,8 +168,8 @@ impl LagrangeExact {
         let c1 = -st * st * beta - 2.0 * u0 * a0 + 2.0 * a * b0;
         let c2 = 2.0 * u0 * beta - a0 - a * a;
         let p = Poly3([c0, c1, c2, beta]);
-        let db = b0 - a * om0; // b - a
-        let sb = b0 + a * op0; // b + a
+        let mut db = b0 - a * om0; // b - a
+        let mut sb = b0 + a * op0; // b + a
 
         let (dlo, dhi) = if c0 == 0.0 && c1 == 0.0 {
             (0.0, 0.0)
@@ -183,7 +198,7 @@ impl LagrangeExact {
             nut: None,
         };
         // 4 w^2 = beta (u3 - uA), written without dividing by beta (so l = 0 is included).
-        let (ta, tb) = if beta >= 0.0 { (lo, hi) } else { (hi, lo) };
+        let (ta, mut tb) = if beta >= 0.0 { (lo, hi) } else { (hi, lo) };
         let w4 = -c2 - beta * (tb.delta + 2.0 * ta.delta);
         if hi.delta - lo.delta == 0.0 {
             out.kind = if s.theta == 0.0 {
@@ -201,16 +216,55 @@ impl LagrangeExact {
                 "nutation frequency squared {w4} is not positive"
             )));
         }
-        let w = 0.5 * w4.sqrt();
-        out.small_freq = 2.0 * w;
         let dab = tb.delta - ta.delta; // uB - uA
-        let mut m = (beta * dab / w4).clamp(0.0, 1.0);
-        let mut m1 = ((w4 - beta * dab) / w4).clamp(0.0, 1.0);
-        if m1 < 8.0 * f64::EPSILON {
-            // The data cannot tell this from the separatrix: take the separatrix.
+        let (mut m, mut m1, w4) = if beta == 0.0 {
+            (0.0, 1.0, w4)
+        } else {
+            // The third root in the distance to the vertical beyond which it lies (e3 < 0),
+            // so that u3 - uB and u3 - uA have no cancellation even when uB is near it.
+            let q = if beta > 0.0 {
+                top_poly(db, a, beta, a0, om0)
+            } else {
+                bottom_poly(sb, a, beta, a0, op0)
+            };
+            let c = q.0;
+            let x = 1.0 + (c[0].abs().max(c[1].abs()).max(c[2].abs())) / beta.abs();
+            let e3 = q.root_in(-x, 0.0);
+            let (ea, eb) = if beta > 0.0 {
+                (ta.om, tb.om)
+            } else {
+                (ta.op, tb.op)
+            };
+            (
+                dab.abs() / (ea - e3),
+                (eb - e3) / (ea - e3),
+                beta.abs() * (ea - e3),
+            )
+        };
+        if m1 < SEPARATRIX_M1 {
+            // On the separatrix the far turning point is the vertical itself (Mz = +-M3).
             m = 1.0;
             m1 = 0.0;
+            if beta > 0.0 {
+                tb = Turn {
+                    u: 1.0,
+                    om: 0.0,
+                    op: 2.0,
+                    delta: tb.delta,
+                };
+                db = 0.0;
+            } else {
+                tb = Turn {
+                    u: -1.0,
+                    om: 2.0,
+                    op: 0.0,
+                    delta: tb.delta,
+                };
+                sb = 0.0;
+            }
         }
+        let w = 0.5 * w4.sqrt();
+        out.small_freq = 2.0 * w;
         let kk = ellipk_m1(m1);
 
         // Phase: sn^2(tau0) = (u0 - uA)/(uB - uA), cn^2 = (uB - u0)/(uB - uA).
@@ -230,9 +284,14 @@ impl LagrangeExact {
             tau0 = -tau0;
         }
         if !tau0.is_finite() {
-            return Err(KreiselError::Numerical(
-                "state at the vertical on the separatrix".into(),
-            ));
+            // At the vertical on the separatrix: the (unstable) equilibrium itself.
+            out.kind = if u0 > 0.0 {
+                MotionKind::Sleeping
+            } else {
+                MotionKind::Hanging
+            };
+            out.small_freq = 0.0;
+            return Ok(out);
         }
         let half = |om: f64, num: f64| if num == 0.0 { 0.0 } else { num / (2.0 * om) };
         let cp = half(ta.om, db);
@@ -248,6 +307,7 @@ impl LagrangeExact {
             m1,
             w,
             kk,
+            inv_period: 0.5 / kk,
             tau0,
             cp,
             cm,
@@ -268,6 +328,9 @@ impl LagrangeExact {
         };
         out.kind = if m1 == 0.0 {
             MotionKind::Asymptotic
+        } else if lo.theta() - hi.theta() <= STEADY_AMPLITUDE {
+            // A nutation this small is the round-off of a steady state's rates.
+            MotionKind::RegularPrecession
         } else if nut.cross_a || nut.cross_b {
             MotionKind::ThroughVertical
         } else {
@@ -286,7 +349,9 @@ impl LagrangeExact {
             nut.phi_k = end[2];
             nut.psi_k = end[3];
             // Interpolate to round-off; fall back to direct evaluation if that fails.
-            nut.interp = Piecewise::<6>::build(0.0, kk, |x| nut.row(x, spin_lin), 1e-14, 26).ok();
+            nut.interp = Piecewise::<6>::build(0.0, kk, |x| nut.row(x, spin_lin), 1e-14, 14)
+                .ok()
+                .filter(|p| p.accuracy() < 1e-11);
         }
         let (j0, sgn0, rho0) = nut.reduce(tau0);
         let v0 = nut.row(rho0, spin_lin)?;
@@ -371,22 +436,22 @@ impl LagrangeExact {
             });
         };
         let tau = n.w * t + n.tau0;
-        let rho = n.reduce(tau).2;
+        let (j, sgn, rho) = n.reduce(tau);
         let v = match (&n.interp, fast) {
             (Some(p), true) => p.eval(rho),
             _ => n.row(rho, self.spin_lin)?,
         };
-        Ok(self.assemble(n, t, tau, &v))
+        Ok(self.assemble(n, t, tau, (j, sgn), &v))
     }
 
     /// The state at time t from the half-period values `v` at tau = w t + tau0.
     #[inline(always)]
-    fn assemble(&self, n: &Nutation, t: f64, tau: f64, v: &Row) -> EulerState {
+    fn assemble(&self, n: &Nutation, t: f64, tau: f64, red: (f64, f64), v: &Row) -> EulerState {
         let s = &self.state;
-        let (j, sgn, _) = n.reduce(tau);
+        let (j, sgn) = red;
         let jumps = n.crossings(tau) - n.cross0;
         EulerState {
-            theta: v[0],
+            theta: v[0].clamp(0.0, PI),
             theta_dot: sgn * v[1],
             phi: s.phi + (2.0 * j * n.phi_k + sgn * v[2] - n.phi_tot0) + PI * jumps,
             psi: s.psi + self.spin_lin * t + (2.0 * j * n.psi_k + sgn * v[3] - n.psi_tot0)
@@ -399,18 +464,51 @@ impl LagrangeExact {
     /// Evaluates at many times into the six output slices (theta, phi, psi, theta_dot,
     /// phi_dot, psi_dot), each as long as `t`.
     pub fn eval_into(&self, t: &[f64], out: [&mut [f64]; 6]) -> Result<()> {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")
+        {
+            // SAFETY: the CPU supports the features the function is compiled for.
+            return unsafe { self.eval_into_avx2(t, out) };
+        }
+        self.eval_into_with::<false>(t, out)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    unsafe fn eval_into_avx2(&self, t: &[f64], out: [&mut [f64]; 6]) -> Result<()> {
+        self.eval_into_with::<true>(t, out)
+    }
+
+    #[inline(always)]
+    fn eval_into_with<const FMA: bool>(&self, t: &[f64], out: [&mut [f64]; 6]) -> Result<()> {
         let [th, ph, ps, thd, phd, psd] = out;
         if let Some(n) = self.nut.as_ref().filter(|n| n.interp.is_some()) {
             let interp = n.interp.as_ref().unwrap();
-            for (i, &ti) in t.iter().enumerate() {
-                let tau = n.w * ti + n.tau0;
-                let e = self.assemble(n, ti, tau, &interp.eval(n.reduce(tau).2));
+            let mut put = |i: usize, e: EulerState| {
                 th[i] = e.theta;
                 ph[i] = e.phi;
                 ps[i] = e.psi;
                 thd[i] = e.theta_dot;
                 phd[i] = e.phi_dot;
                 psd[i] = e.psi_dot;
+            };
+            let quads = t.len() / 4;
+            for q in 0..quads {
+                let ti: [f64; 4] = std::array::from_fn(|p| t[4 * q + p]);
+                let tau = ti.map(|x| n.w * x + n.tau0);
+                let red = tau.map(|x| n.reduce(x));
+                let v = interp.eval4::<FMA>(red.map(|r| r.2));
+                for p in 0..4 {
+                    put(
+                        4 * q + p,
+                        self.assemble(n, ti[p], tau[p], (red[p].0, red[p].1), &v[p]),
+                    );
+                }
+            }
+            for (i, &ti) in t.iter().enumerate().skip(4 * quads) {
+                let tau = n.w * ti + n.tau0;
+                let (j, sgn, rho) = n.reduce(tau);
+                put(i, self.assemble(n, ti, tau, (j, sgn), &interp.eval(rho)));
             }
             return Ok(());
         }
@@ -434,7 +532,7 @@ impl Nutation {
         if self.kk.is_infinite() {
             return (0.0, if tau < 0.0 { -1.0 } else { 1.0 }, tau.abs());
         }
-        let j = round_fast(tau / (2.0 * self.kk));
+        let j = round_fast(tau * self.inv_period);
         let r = tau - 2.0 * self.kk * j;
         let sgn = if r < 0.0 { -1.0 } else { 1.0 };
         (j, sgn, r.abs().min(self.kk))
@@ -493,15 +591,22 @@ impl Nutation {
         let tm = ratio(self.sb, op) * 0.5;
         let phi_dot = tp + tm;
         let psi_dot = spin_lin - tp + tm;
+        let third = |n: f64, n1: f64| {
+            if self.m1 == 0.0 {
+                Ok(pi_separatrix(rho, sn, n, n1))
+            } else {
+                pi_of_tau(rho, sn, cn, dn, n, n1)
+            }
+        };
         let ip = if self.cp == 0.0 {
             0.0
         } else {
-            self.cp * pi_of_tau(rho, sn, cn, dn, self.np, self.np1)?
+            self.cp * third(self.np, self.np1)?
         };
         let im = if self.cm == 0.0 {
             0.0
         } else {
-            self.cm * pi_of_tau(rho, sn, cn, dn, self.nm, self.nm1)?
+            self.cm * third(self.nm, self.nm1)?
         };
         Ok([
             theta,
@@ -511,6 +616,21 @@ impl Nutation {
             phi_dot,
             psi_dot,
         ])
+    }
+}
+
+/// `int_0^tau ds / (1 - n tanh^2 s)` (the third-kind integral at k = 1), elementary:
+/// `[tau - sqrt(n) atanh(sqrt(n) tanh tau)] / (1 - n)` for 0 < n < 1 and
+/// `[tau + sqrt(-n) atan(sqrt(-n) tanh tau)] / (1 - n)` for n < 0. `th` is tanh(tau).
+fn pi_separatrix(tau: f64, th: f64, n: f64, n1: f64) -> f64 {
+    if n == 0.0 {
+        tau
+    } else if n > 0.0 {
+        let r = n.sqrt();
+        (tau - r * (r * th).atanh()) / n1
+    } else {
+        let r = (-n).sqrt();
+        (tau + r * (r * th).atan()) / n1
     }
 }
 
@@ -611,6 +731,30 @@ fn turn(
     }
 }
 
+/// The gyro function in e = 1 - u: f(1 - e) = -db^2 + e (2 D - 2 a db)
+/// + e^2 (2 beta - D - a^2) - beta e^3, with D = alpha - beta = a0 - beta (1 - u0).
+fn top_poly(db: f64, a: f64, beta: f64, a0: f64, om0: f64) -> Poly3 {
+    let d = a0 - beta * om0;
+    Poly3([
+        -db * db,
+        2.0 * d - 2.0 * a * db,
+        2.0 * beta - d - a * a,
+        -beta,
+    ])
+}
+
+/// The gyro function in e = 1 + u: f(-1 + e) = -sb^2 + e (2 S + 2 a sb)
+/// + e^2 (-2 beta - S - a^2) + beta e^3, with S = alpha + beta = a0 + beta (1 + u0).
+fn bottom_poly(sb: f64, a: f64, beta: f64, a0: f64, op0: f64) -> Poly3 {
+    let s = a0 + beta * op0;
+    Poly3([
+        -sb * sb,
+        2.0 * s + 2.0 * a * sb,
+        -2.0 * beta - s - a * a,
+        beta,
+    ])
+}
+
 /// Refines a root `e` in [0, e_max] of `q` (q(0) <= 0 <= q(e_max)) near the guess.
 fn refine(q: &Poly3, guess: f64, e_max: f64) -> f64 {
     if q.eval(0.0) == 0.0 && guess <= 4.0 * f64::EPSILON {
@@ -633,22 +777,24 @@ impl LagrangeExact {
     /// Evaluates at many times, in parallel over the machine's cores for long inputs.
     /// Returns (theta, phi, psi, theta_dot, phi_dot, psi_dot), each as long as `t`.
     pub fn eval_many(&self, t: &[f64]) -> Result<[Vec<f64>; 6]> {
+        let mut out: [Vec<f64>; 6] = std::array::from_fn(|_| vec![0.0; t.len()]);
+        let [a, b, c, d, e, f] = &mut out;
+        self.eval_par_into(t, [a, b, c, d, e, f])?;
+        Ok(out)
+    }
+
+    /// [`LagrangeExact::eval_into`] spread over the machine's cores in chunks.
+    pub fn eval_par_into(&self, t: &[f64], out: [&mut [f64]; 6]) -> Result<()> {
         use rayon::prelude::*;
         const CHUNK: usize = 16_384;
-        let n = t.len();
-        let mut out: [Vec<f64>; 6] = std::array::from_fn(|_| vec![0.0; n]);
-        let [a, b, c, d, e, f] = &mut out;
-        let chunks = a
-            .par_chunks_mut(CHUNK)
+        let [a, b, c, d, e, f] = out;
+        a.par_chunks_mut(CHUNK)
             .zip(b.par_chunks_mut(CHUNK))
             .zip(c.par_chunks_mut(CHUNK))
             .zip(d.par_chunks_mut(CHUNK))
             .zip(e.par_chunks_mut(CHUNK))
             .zip(f.par_chunks_mut(CHUNK))
-            .zip(t.par_chunks(CHUNK));
-        chunks.try_for_each(|((((((a, b), c), d), e), f), t)| {
-            self.eval_into(t, [a, b, c, d, e, f])
-        })?;
-        Ok(out)
+            .zip(t.par_chunks(CHUNK))
+            .try_for_each(|((((((a, b), c), d), e), f), t)| self.eval_into(t, [a, b, c, d, e, f]))
     }
 }

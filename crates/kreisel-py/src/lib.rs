@@ -2,12 +2,19 @@
 
 mod errors;
 mod lagrange;
+mod special;
 
 use pyo3::prelude::*;
 
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<lagrange::PyLagrangeTop>()?;
+    m.add_function(wrap_pyfunction!(special::ellipj, m)?)?;
+    m.add_function(wrap_pyfunction!(special::ellipk, m)?)?;
+    m.add_function(wrap_pyfunction!(special::ellipf, m)?)?;
+    m.add_function(wrap_pyfunction!(special::ellippiinc, m)?)?;
+    m.add_function(wrap_pyfunction!(special::ellippi, m)?)?;
+    m.add_function(wrap_pyfunction!(special::cubic_roots, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

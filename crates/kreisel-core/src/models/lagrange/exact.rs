@@ -483,32 +483,61 @@ impl LagrangeExact {
     fn eval_into_with<const FMA: bool>(&self, t: &[f64], out: [&mut [f64]; 6]) -> Result<()> {
         let [th, ph, ps, thd, phd, psd] = out;
         if let Some(n) = self.nut.as_ref().filter(|n| n.interp.is_some()) {
+            // Blocks in three passes: reduction to half a period and assembly are plain
+            // loops the compiler vectorises; the interpolation runs four points at a time.
+            const B: usize = 64;
             let interp = n.interp.as_ref().unwrap();
-            let mut put = |i: usize, e: EulerState| {
-                th[i] = e.theta;
-                ph[i] = e.phi;
-                ps[i] = e.psi;
-                thd[i] = e.theta_dot;
-                phd[i] = e.phi_dot;
-                psd[i] = e.psi_dot;
-            };
-            let quads = t.len() / 4;
-            for q in 0..quads {
-                let ti: [f64; 4] = std::array::from_fn(|p| t[4 * q + p]);
-                let tau = ti.map(|x| n.w * x + n.tau0);
-                let red = tau.map(|x| n.reduce(x));
-                let v = interp.eval4::<FMA>(red.map(|r| r.2));
-                for p in 0..4 {
-                    put(
-                        4 * q + p,
-                        self.assemble(n, ti[p], tau[p], (red[p].0, red[p].1), &v[p]),
-                    );
+            let s = &self.state;
+            let (p2, kk) = (2.0 * n.kk, n.kk);
+            let phi_c = s.phi - n.phi_tot0 - PI * n.cross0;
+            let psi_c = s.psi - n.psi_tot0 + PI * n.cross0;
+            let mut rho = [0.0f64; B];
+            let mut jj = [0.0f64; B];
+            let mut sg = [0.0f64; B];
+            let mut cr = [0.0f64; B];
+            let mut v = [[0.0f64; 6]; B];
+            for (start, tb) in (0..t.len()).step_by(B).zip(t.chunks(B)) {
+                let m = tb.len();
+                for k in 0..m {
+                    let tau = n.w * tb[k] + n.tau0;
+                    let j = round_magic(tau * n.inv_period);
+                    let r = tau - p2 * j;
+                    jj[k] = j;
+                    sg[k] = if r < 0.0 { -1.0 } else { 1.0 };
+                    rho[k] = r.abs().min(kk);
                 }
-            }
-            for (i, &ti) in t.iter().enumerate().skip(4 * quads) {
-                let tau = n.w * ti + n.tau0;
-                let (j, sgn, rho) = n.reduce(tau);
-                put(i, self.assemble(n, ti, tau, (j, sgn), &interp.eval(rho)));
+                if n.cross_a || n.cross_b {
+                    for k in 0..m {
+                        cr[k] = n.crossings(n.w * tb[k] + n.tau0);
+                    }
+                }
+                rho[m..].fill(0.0);
+                for q in 0..m.div_ceil(4) {
+                    let x = [rho[4 * q], rho[4 * q + 1], rho[4 * q + 2], rho[4 * q + 3]];
+                    let r = interp.eval4::<FMA>(x);
+                    v[4 * q..4 * q + 4].copy_from_slice(&r);
+                }
+                let range = start..start + m;
+                let (th, ph, ps) = (
+                    &mut th[range.clone()],
+                    &mut ph[range.clone()],
+                    &mut ps[range.clone()],
+                );
+                let (thd, phd, psd) = (
+                    &mut thd[range.clone()],
+                    &mut phd[range.clone()],
+                    &mut psd[range],
+                );
+                for k in 0..m {
+                    let (j, g) = (jj[k], sg[k]);
+                    let jump = PI * cr[k];
+                    th[k] = v[k][0].clamp(0.0, PI);
+                    thd[k] = g * v[k][1];
+                    ph[k] = phi_c + 2.0 * j * n.phi_k + g * v[k][2] + jump;
+                    ps[k] = psi_c + self.spin_lin * tb[k] + 2.0 * j * n.psi_k + g * v[k][3] - jump;
+                    phd[k] = v[k][4];
+                    psd[k] = v[k][5];
+                }
             }
             return Ok(());
         }
@@ -631,6 +660,18 @@ fn pi_separatrix(tau: f64, th: f64, n: f64, n1: f64) -> f64 {
     } else {
         let r = (-n).sqrt();
         (tau + r * (r * th).atan()) / n1
+    }
+}
+
+/// Nearest integer (ties to even) by the 1.5 * 2^52 trick: branch-free, so loops over it
+/// vectorise. Exact for |x| < 2^51; beyond that x is returned.
+#[inline(always)]
+fn round_magic(x: f64) -> f64 {
+    const M: f64 = 6_755_399_441_055_744.0;
+    if x.abs() < 2_251_799_813_685_248.0 {
+        (x + M) - M
+    } else {
+        x
     }
 }
 

@@ -21,9 +21,10 @@ import time
 # No BLAS is timed here; idle OpenBLAS threads would only spin against kreisel's workers.
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
-import kreisel
 import numpy as np
 from scipy.special import ellipj
+
+import kreisel
 
 CASE = "X1"
 PARAMS = {"I1": 1.0, "I3": 0.5, "m": 1.0, "l": 1.0, "g": 1.0}

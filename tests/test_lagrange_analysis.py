@@ -6,12 +6,13 @@ from __future__ import annotations
 
 import math
 
-import kreisel
 import numpy as np
 import pytest
 from conftest import Params, Start
 from numpy.testing import assert_allclose
 from scipy.integrate import solve_ivp
+
+import kreisel
 
 SYM = Params(I1=1.0, I3=0.5, m=1.0, l=1.0, g=1.0)
 GYRO = Params(I1=2.0, I3=1.5, m=0.8, l=0.6, g=9.81)

@@ -74,7 +74,8 @@ def test_cubic_roots_match_mpmath():
         r = np.sort(rng.normal(size=3) * 3)
         c = np.poly(r)[::-1] * rng.uniform(0.5, 2)
         got = special.cubic_roots(*c)
-        ref = sorted(float(x.real) for x in mp.polyroots(list(c), maxsteps=500, extraprec=60, asc=True))
+        roots = mp.polyroots(list(c), maxsteps=500, extraprec=60, asc=True)
+        ref = sorted(float(x.real) for x in roots)
         np.testing.assert_allclose(got, ref, rtol=1e-10, atol=1e-12)
 
 

@@ -5,12 +5,13 @@ from __future__ import annotations
 import numpy as np
 
 from . import _core
+from ._heavy import RigidState, _Rigid, euler_state
 from ._state import EulerState, Invariants, NutationAnalysis
 from ._trajectory import Trajectory
 from ._validate import real, times
 
 
-class LagrangeTop:
+class LagrangeTop(_Rigid):
     """A heavy symmetric top on a fixed frictionless pivot, centre of mass on the figure axis.
 
     Parameters
@@ -68,16 +69,16 @@ class LagrangeTop:
         -------
         EulerState
         """
-        s = EulerState(
-            theta=real("theta", theta),
-            phi=real("phi", phi),
-            psi=real("psi", psi),
-            theta_dot=real("theta_dot", theta_dot),
-            phi_dot=real("phi_dot", phi_dot),
-            psi_dot=real("psi_dot", psi_dot),
-        )
-        self._native.check_state(s.as_tuple())
-        return s
+        return euler_state(theta, phi, psi, theta_dot, phi_dot, psi_dot)
+
+    def state_from_quaternion(self, q, omega) -> RigidState:
+        """A state from a quaternion (w, x, y, z; normalised here) and the body angular
+        velocity ``omega`` (rad/s), for :func:`kreisel.simulate`."""
+        return _Rigid.state_from_quaternion(self, q, omega)
+
+    def _heavy_native(self):
+        """The same body as a native heavy top: I = (I1, I1, I3), centre of mass (0, 0, l)."""
+        return _core.HeavyTop(self._I1, self._I1, self._I3, self._m, [0.0, 0.0, self._l], self._g)
 
     def _tuple(self, state) -> tuple:
         if not isinstance(state, EulerState):

@@ -9,7 +9,10 @@
 //! are those of the project's PHYSICS notes.
 
 pub mod error;
+pub mod integrate;
 pub mod models;
+pub mod rotation;
+pub mod simulate;
 pub mod special;
 pub mod stability;
 

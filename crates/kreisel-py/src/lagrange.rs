@@ -13,6 +13,12 @@ fn state(py: Python<'_>, s: StateTuple) -> PyResult<EulerState> {
     EulerState::new(s.0, s.1, s.2, s.3, s.4, s.5).py(py)
 }
 
+/// Validates a state given as (theta, phi, psi, theta_dot, phi_dot, psi_dot).
+#[pyfunction]
+pub fn check_euler_state(py: Python<'_>, s: StateTuple) -> PyResult<()> {
+    state(py, s).map(|_| ())
+}
+
 /// The native Lagrange top (parameters only).
 #[pyclass(name = "LagrangeTop", module = "kreisel._core", frozen)]
 pub struct PyLagrangeTop {
@@ -26,11 +32,6 @@ impl PyLagrangeTop {
         Ok(PyLagrangeTop {
             inner: LagrangeTop::new(i1, i3, m, l, g).py(py)?,
         })
-    }
-
-    /// Validates a state given as (theta, phi, psi, theta_dot, phi_dot, psi_dot).
-    fn check_state(&self, py: Python<'_>, s: StateTuple) -> PyResult<()> {
-        state(py, s).map(|_| ())
     }
 
     /// (E, Mz, M3) of a state.

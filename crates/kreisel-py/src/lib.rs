@@ -1,6 +1,7 @@
 //! The compiled module `kreisel._core`: PyO3 bindings of kreisel-core, no physics here.
 
 mod errors;
+mod heavy;
 mod lagrange;
 mod special;
 
@@ -9,6 +10,10 @@ use pyo3::prelude::*;
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<lagrange::PyLagrangeTop>()?;
+    m.add_class::<heavy::PyHeavyTop>()?;
+    m.add_function(wrap_pyfunction!(lagrange::check_euler_state, m)?)?;
+    m.add_function(wrap_pyfunction!(heavy::rigid_from_euler, m)?)?;
+    m.add_function(wrap_pyfunction!(heavy::methods, m)?)?;
     m.add_function(wrap_pyfunction!(special::ellipj, m)?)?;
     m.add_function(wrap_pyfunction!(special::ellipk, m)?)?;
     m.add_function(wrap_pyfunction!(special::ellipf, m)?)?;

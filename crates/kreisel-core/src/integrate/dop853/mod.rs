@@ -1,0 +1,554 @@
+//! DOP853: adaptive explicit Runge–Kutta method of order 8(5,3) with 7th-order dense output.
+//!
+//! The method of Dormand & Prince as described in E. Hairer, S. P. Nørsett,
+//! G. Wanner, *Solving Ordinary Differential Equations I: Nonstiff Problems*,
+//! 2nd ed., Springer 1993, Sec. II.5 (method, error estimation), Sec. II.6 (dense
+//! output) and Sec. II.4 (step-size control, starting step), and implemented in
+//! Hairer's Fortran code `dop853.f`. Coefficients: see [`coefficients`].
+//!
+//! * 12 stages per step, the last one being `f(t + h, y_new)` (first-same-as-last),
+//!   so an accepted step costs 12 right-hand-side evaluations, a rejected one 11.
+//!   [`OdeSystem::project`] is applied to an accepted state before that last
+//!   stage is evaluated, so projection costs no extra evaluation.
+//! * Error estimate combining the embedded 5th- and 3rd-order estimators as in
+//!   `dop853.f` (and SciPy): with `sk_i = atol + rtol * max(|y_i|, |y_new_i|)`,
+//!   `err5 = Σ (e5_i / sk_i)^2`, `err3 = Σ (e3_i / sk_i)^2`,
+//!   `err = |h| * err5 / sqrt(N * (err5 + 0.01 * err3))`; a step is accepted when
+//!   `err <= 1`.
+//! * Step-size control of `dop853.f` with its default parameters: new step
+//!   `h * clamp(0.9 * err^(-1/8), 1/3, 6)`, no increase right after a rejection,
+//!   never larger than `h_max`. (SciPy uses the factor limits 0.2..10 instead.)
+//! * Starting step by Hairer's `hinit` (Sec. II.4) unless `h_init` is given.
+//! * Dense output of order 7 (local error `O(h^8)`) from three extra stages. They
+//!   are evaluated lazily, only when an observer actually evaluates the dense
+//!   output inside a step (3 extra right-hand-side evaluations for that step).
+//! * Non-finite trial values (NaN/inf in a stage or in the new state) reject the
+//!   step and shrink it by 1/3; if that reaches the minimal step size the run ends
+//!   with [`IntegrateError::NonFinite`].
+#![allow(clippy::needless_range_loop)] // index loops mirror the Butcher-tableau formulas
+
+pub mod coefficients;
+
+use std::cell::{Cell, RefCell};
+use std::ops::ControlFlow;
+
+use self::coefficients as co;
+use super::{all_finite, Dense, IntegrateError, Observer, OdeSystem, Stats};
+
+/// Safety factor of the step-size controller (`dop853.f`: `SAFE`).
+const SAFETY: f64 = 0.9;
+/// Smallest step-size ratio `h_new / h` (`dop853.f`: `FAC1`).
+const FAC_MIN: f64 = 1.0 / 3.0;
+/// Largest step-size ratio `h_new / h` (`dop853.f`: `FAC2`).
+const FAC_MAX: f64 = 6.0;
+/// Exponent of the controller, `1 / (q + 1)` with error-estimator order `q = 7`.
+const ERR_EXPONENT: f64 = 1.0 / 8.0;
+
+/// Settings of the adaptive DOP853 integrator (Hairer–Nørsett–Wanner).
+///
+/// Tolerances are scalar: the local error of component `i` is kept below
+/// `atol + rtol * |y_i|` (in the RMS-like norm of `dop853.f`). Use `atol > 0`
+/// for components that pass through zero.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Dop853 {
+    /// Relative tolerance.
+    pub rtol: f64,
+    /// Absolute tolerance.
+    pub atol: f64,
+    /// First step size; `None` selects it with Hairer's `hinit` heuristic.
+    pub h_init: Option<f64>,
+    /// Largest step size (`f64::INFINITY` for no limit; never more than `t_end - t0`).
+    pub h_max: f64,
+    /// Largest number of step attempts (accepted + rejected), like `NMAX` of `dop853.f`.
+    pub max_steps: u64,
+}
+
+impl Default for Dop853 {
+    /// `rtol = 1e-8`, `atol = 1e-10`, automatic first step, no `h_max`, `max_steps = 100_000`.
+    fn default() -> Self {
+        Self {
+            rtol: 1e-8,
+            atol: 1e-10,
+            h_init: None,
+            h_max: f64::INFINITY,
+            max_steps: 100_000,
+        }
+    }
+}
+
+/// Work arrays of one DOP853 step, and the dense output of the last step taken.
+///
+/// Holds the 13 stages (`12` method stages plus `f(t1, y1)`), the step's end
+/// points and the lazily computed dense-output coefficients; about `25 * N`
+/// floats. [`Dop853::integrate`] keeps one on its stack; [`Dop853::step`] takes one
+/// from the caller.
+#[derive(Clone, Debug)]
+pub struct Dop853Work<const N: usize> {
+    k: [[f64; N]; 13],
+    t0: f64,
+    t1: f64,
+    h: f64,
+    y0: [f64; N],
+    y1: [f64; N],
+    cache: RefCell<DenseCache<N>>,
+    dense_evals: Cell<u64>,
+}
+
+#[derive(Clone, Debug)]
+struct DenseCache<const N: usize> {
+    valid: bool,
+    /// Extra stages 13, 14, 15.
+    kx: [[f64; N]; 3],
+    /// Coefficients of the interpolating polynomial (`F` of SciPy, `CONT` of `dop853.f`).
+    f: [[f64; N]; 7],
+}
+
+impl<const N: usize> Default for Dop853Work<N> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl<const N: usize> Dop853Work<N> {
+    /// Zeroed work arrays.
+    pub fn new() -> Self {
+        Self {
+            k: [[0.0; N]; 13],
+            t0: 0.0,
+            t1: 0.0,
+            h: 0.0,
+            y0: [0.0; N],
+            y1: [0.0; N],
+            cache: RefCell::new(DenseCache {
+                valid: false,
+                kx: [[0.0; N]; 3],
+                f: [[0.0; N]; 7],
+            }),
+            dense_evals: Cell::new(0),
+        }
+    }
+
+    /// Dense output over the last step taken with this work struct.
+    ///
+    /// `sys` must be the system that step was taken for: the first evaluation
+    /// inside the step computes the three extra stages with it.
+    pub fn dense<'a, S: OdeSystem<N> + ?Sized>(&'a self, sys: &'a S) -> Dop853Dense<'a, N, S> {
+        Dop853Dense { work: self, sys }
+    }
+
+    /// Right-hand-side evaluations spent on dense output since the last call.
+    pub fn take_dense_evals(&self) -> u64 {
+        self.dense_evals.take()
+    }
+
+    fn set_step(&mut self, t0: f64, t1: f64, h: f64, y0: &[f64; N], y1: &[f64; N]) {
+        self.t0 = t0;
+        self.t1 = t1;
+        self.h = h;
+        self.y0 = *y0;
+        self.y1 = *y1;
+        self.cache.get_mut().valid = false;
+    }
+
+    /// Computes the extra stages and the interpolation coefficients (`dop853.f`, `CONTD8` setup).
+    fn fill_dense<S: OdeSystem<N> + ?Sized>(&self, sys: &S, c: &mut DenseCache<N>) {
+        let h = self.h;
+        for s in 13..16 {
+            let mut ys = [0.0; N];
+            for i in 0..N {
+                let mut acc = 0.0;
+                for j in 0..s {
+                    let kj = if j < 13 {
+                        self.k[j][i]
+                    } else {
+                        c.kx[j - 13][i]
+                    };
+                    acc += co::A[s][j] * kj;
+                }
+                ys[i] = self.y0[i] + h * acc;
+            }
+            let mut ks = [0.0; N];
+            sys.rhs(self.t0 + co::C[s] * h, &ys, &mut ks);
+            c.kx[s - 13] = ks;
+        }
+        self.dense_evals.set(self.dense_evals.get() + 3);
+        let (f0, f1) = (&self.k[0], &self.k[12]);
+        for i in 0..N {
+            let dy = self.y1[i] - self.y0[i];
+            let bspl = h * f0[i] - dy;
+            c.f[0][i] = dy;
+            c.f[1][i] = bspl;
+            c.f[2][i] = dy - h * f1[i] - bspl;
+        }
+        for r in 0..4 {
+            let mut acc = [0.0; N];
+            for (j, &d) in co::D[r].iter().enumerate() {
+                if d == 0.0 {
+                    continue;
+                }
+                let kj = if j < 13 { &self.k[j] } else { &c.kx[j - 13] };
+                for i in 0..N {
+                    acc[i] += d * kj[i];
+                }
+            }
+            for i in 0..N {
+                c.f[3 + r][i] = h * acc[i];
+            }
+        }
+        c.valid = true;
+    }
+}
+
+/// Dense output (7th order) of one DOP853 step; see [`Dop853Work::dense`].
+pub struct Dop853Dense<'a, const N: usize, S: OdeSystem<N> + ?Sized> {
+    work: &'a Dop853Work<N>,
+    sys: &'a S,
+}
+
+impl<const N: usize, S: OdeSystem<N> + ?Sized> Dense<N> for Dop853Dense<'_, N, S> {
+    fn t0(&self) -> f64 {
+        self.work.t0
+    }
+
+    fn t1(&self) -> f64 {
+        self.work.t1
+    }
+
+    /// Evaluates the 7th-degree interpolant of `dop853.f` (`CONTD8`).
+    fn eval(&self, t: f64, out: &mut [f64; N]) {
+        let w = self.work;
+        if t == w.t1 {
+            *out = w.y1;
+            return;
+        }
+        if t == w.t0 {
+            *out = w.y0;
+            return;
+        }
+        let mut c = w.cache.borrow_mut();
+        if !c.valid {
+            w.fill_dense(self.sys, &mut c);
+        }
+        let s = (t - w.t0) / w.h;
+        let s1 = 1.0 - s;
+        let f = &c.f;
+        // y0 + s (F0 + s1 (F1 + s (F2 + s1 (F3 + s (F4 + s1 (F5 + s F6)))))), s1 = 1 - s.
+        for i in 0..N {
+            let par = f[3][i] + s * (f[4][i] + s1 * (f[5][i] + s * f[6][i]));
+            out[i] = w.y0[i] + s * (f[0][i] + s1 * (f[1][i] + s * (f[2][i] + s1 * par)));
+        }
+    }
+}
+
+impl Dop853 {
+    /// Settings with the given tolerances and the defaults of [`Dop853::default`] otherwise.
+    pub fn new(rtol: f64, atol: f64) -> Self {
+        Self {
+            rtol,
+            atol,
+            ..Self::default()
+        }
+    }
+
+    fn check_tolerances(&self) {
+        assert!(
+            self.rtol >= 0.0 && self.atol >= 0.0 && (self.rtol > 0.0 || self.atol > 0.0),
+            "Dop853: tolerances must be >= 0 and not both zero (rtol = {}, atol = {})",
+            self.rtol,
+            self.atol
+        );
+    }
+
+    /// Integrates `sys` from `(t0, y0)` to `t_end`, reporting every accepted step to `obs`.
+    ///
+    /// Returns the final time and state (`t_end`, or the stop point of the
+    /// observer if it broke off) and the run's [`Stats`]. `t_end == t0` returns
+    /// `(t0, y0)` after calling `obs.start`. The last step is adjusted to land
+    /// exactly on `t_end` (a step is stretched by up to 1 % to reach it, as in
+    /// `dop853.f`, but never beyond `h_max`). Nothing is allocated; the work arrays live on the stack
+    /// (about `25 * N` floats).
+    ///
+    /// # Errors
+    /// [`IntegrateError::NonFinite`] if `y0` or `f(t0, y0)` is not finite, or if
+    /// non-finite trial values persist down to the minimal step;
+    /// [`IntegrateError::StepSizeTooSmall`] if the step size falls below
+    /// `10 * f64::EPSILON * |t|`; [`IntegrateError::TooManySteps`] after
+    /// `max_steps` step attempts.
+    ///
+    /// # Panics
+    /// If `t0` or `t_end` is not finite, if `t_end < t0` (backward integration is
+    /// not supported) or if the tolerances are negative or both zero.
+    pub fn integrate<const N: usize, S, O>(
+        &self,
+        sys: &S,
+        t0: f64,
+        y0: [f64; N],
+        t_end: f64,
+        obs: &mut O,
+    ) -> Result<(f64, [f64; N], Stats), IntegrateError>
+    where
+        S: OdeSystem<N> + ?Sized,
+        O: Observer<N> + ?Sized,
+    {
+        assert!(
+            t0.is_finite() && t_end.is_finite(),
+            "Dop853: t0 and t_end must be finite"
+        );
+        assert!(
+            t_end >= t0,
+            "Dop853: backward integration (t_end < t0) is not supported"
+        );
+        self.check_tolerances();
+
+        let mut stats = Stats::default();
+        obs.start(t0, &y0);
+        if t_end == t0 {
+            return Ok((t0, y0, stats));
+        }
+
+        let mut work = Dop853Work::<N>::new();
+        let mut t = t0;
+        let mut y = y0;
+        sys.rhs(t, &y, &mut work.k[0]);
+        stats.rhs_evals += 1;
+        if !all_finite(&y) || !all_finite(&work.k[0]) {
+            return Err(IntegrateError::NonFinite { t });
+        }
+
+        let span = t_end - t0;
+        let h_max = if self.h_max > 0.0 {
+            self.h_max.min(span)
+        } else {
+            span
+        };
+        let mut h = match self.h_init {
+            Some(h) if h > 0.0 && h.is_finite() => h.min(h_max),
+            _ => self.initial_step(sys, t, &y, &work.k[0], h_max, &mut stats),
+        };
+
+        let mut rejected_last = false;
+        let mut nonfinite_last = false;
+        loop {
+            let attempts = stats.steps + stats.rejected;
+            if attempts >= self.max_steps {
+                return Err(IntegrateError::TooManySteps { t, steps: attempts });
+            }
+            if h.is_nan() || h <= 10.0 * f64::EPSILON * t.abs() {
+                return Err(if nonfinite_last {
+                    IntegrateError::NonFinite { t }
+                } else {
+                    IntegrateError::StepSizeTooSmall { t, h }
+                });
+            }
+            // Stretch the step by up to 1 % to land on t_end (dop853.f), but never beyond h_max.
+            let last = t_end - t <= (1.01 * h).min(h_max);
+            let (h_step, t_new) = if last { (t_end - t, t_end) } else { (h, t + h) };
+
+            let (mut y_new, err, finite) = self.attempt(sys, t, &y, h_step, &mut work.k);
+            stats.rhs_evals += 11;
+            if !finite {
+                stats.rejected += 1;
+                rejected_last = true;
+                nonfinite_last = true;
+                h = h_step * FAC_MIN;
+                continue;
+            }
+            nonfinite_last = false;
+
+            let fac11 = err.powf(ERR_EXPONENT);
+            if err > 1.0 {
+                // Rejected: shrink by at most FAC_MIN.
+                stats.rejected += 1;
+                rejected_last = true;
+                h = h_step / (fac11 / SAFETY).min(1.0 / FAC_MIN);
+                continue;
+            }
+
+            // Accepted: project, then evaluate f at the (projected) new state. This
+            // last stage is not needed by the error estimate, so, as in dop853.f, it
+            // is only computed for accepted steps.
+            sys.project(&mut y_new);
+            sys.rhs(t_new, &y_new, &mut work.k[12]);
+            stats.rhs_evals += 1;
+            if !all_finite(&y_new) || !all_finite(&work.k[12]) {
+                stats.rejected += 1;
+                rejected_last = true;
+                nonfinite_last = true;
+                h = h_step * FAC_MIN;
+                continue;
+            }
+            let fac = (fac11 / SAFETY).clamp(1.0 / FAC_MAX, 1.0 / FAC_MIN);
+            let mut h_new = (h_step / fac).min(h_max);
+            if rejected_last {
+                h_new = h_new.min(h_step);
+            }
+            rejected_last = false;
+
+            work.set_step(t, t_new, h_step, &y, &y_new);
+            stats.steps += 1;
+            let flow = obs.step(t_new, &y_new, &work.dense(sys));
+            stats.rhs_evals += work.take_dense_evals();
+            if let ControlFlow::Break(()) = flow {
+                let (ts, ys) = obs.stop_point().unwrap_or((t_new, y_new));
+                return Ok((ts, ys, stats));
+            }
+            if last {
+                return Ok((t_new, y_new, stats));
+            }
+            work.k[0] = work.k[12];
+            t = t_new;
+            y = y_new;
+            h = h_new;
+        }
+    }
+
+    /// Takes one DOP853 step of size `h` from `(t, y)`, without step-size control or projection.
+    ///
+    /// Evaluates `f(t, y)` itself (13 right-hand-side evaluations in total) and
+    /// returns the 8th-order solution at `t + h` and the scaled error norm
+    /// (`<= 1` means the step would be accepted under `self.rtol`/`self.atol`; it
+    /// is NaN or infinite if the trial values were not finite). Afterwards
+    /// `work.dense(sys)` is the 7th-order dense output over `[t, t + h]`. Use this
+    /// to run DOP853 with a fixed step.
+    pub fn step<const N: usize, S: OdeSystem<N> + ?Sized>(
+        &self,
+        sys: &S,
+        t: f64,
+        y: &[f64; N],
+        h: f64,
+        work: &mut Dop853Work<N>,
+    ) -> ([f64; N], f64) {
+        sys.rhs(t, y, &mut work.k[0]);
+        let t_new = t + h;
+        let (y_new, err, finite) = self.attempt(sys, t, y, h, &mut work.k);
+        sys.rhs(t_new, &y_new, &mut work.k[12]);
+        work.set_step(t, t_new, h, y, &y_new);
+        let finite = finite && all_finite(&work.k[12]);
+        (y_new, if finite { err } else { f64::NAN })
+    }
+
+    /// Stages 1..12 from `k[0] = f(t, y)`: returns `(y_new, err, all_finite)`.
+    ///
+    /// Does not evaluate the FSAL stage `k[12] = f(t + h, y_new)`.
+    fn attempt<const N: usize, S: OdeSystem<N> + ?Sized>(
+        &self,
+        sys: &S,
+        t: f64,
+        y: &[f64; N],
+        h: f64,
+        k: &mut [[f64; N]; 13],
+    ) -> ([f64; N], f64, bool) {
+        let mut finite = all_finite(&k[0]);
+        let mut ys = [0.0; N];
+        for s in 1..co::N_STAGES {
+            let a = &co::A[s];
+            for i in 0..N {
+                let mut acc = 0.0;
+                for j in 0..s {
+                    acc += a[j] * k[j][i];
+                }
+                ys[i] = y[i] + h * acc;
+            }
+            sys.rhs(t + co::C[s] * h, &ys, &mut k[s]);
+            finite &= all_finite(&k[s]);
+        }
+        let mut y_new = [0.0; N];
+        for i in 0..N {
+            let mut acc = 0.0;
+            for j in 0..co::N_STAGES {
+                acc += co::B[j] * k[j][i];
+            }
+            y_new[i] = y[i] + h * acc;
+        }
+        finite &= all_finite(&y_new);
+
+        let (mut err5, mut err3) = (0.0, 0.0);
+        for i in 0..N {
+            let sk = self.atol + self.rtol * y[i].abs().max(y_new[i].abs());
+            let (mut e5, mut e3) = (0.0, 0.0);
+            for j in 0..co::N_STAGES {
+                e5 += co::E5[j] * k[j][i];
+                e3 += co::E3[j] * k[j][i];
+            }
+            err5 += scaled(e5, sk).powi(2);
+            err3 += scaled(e3, sk).powi(2);
+        }
+        let mut deno = err5 + 0.01 * err3;
+        if deno <= 0.0 {
+            deno = 1.0;
+        }
+        // err is +inf (reject, shrink) if a zero scale meets a nonzero error estimate.
+        let mut err = h.abs() * err5 / (N as f64 * deno).sqrt();
+        if err.is_nan() {
+            err = f64::INFINITY;
+        }
+        (y_new, err, finite)
+    }
+
+    /// Starting step size of `dop853.f` (`HINIT`, Hairer–Nørsett–Wanner Sec. II.4).
+    ///
+    /// Chooses `h` so that `h^8 * max(|f0|, |f'|) = 0.01` in the tolerance-scaled
+    /// norm, with `|f'|` estimated by one explicit Euler step (one extra
+    /// right-hand-side evaluation, counted in `stats`).
+    fn initial_step<const N: usize, S: OdeSystem<N> + ?Sized>(
+        &self,
+        sys: &S,
+        t: f64,
+        y: &[f64; N],
+        f0: &[f64; N],
+        h_max: f64,
+        stats: &mut Stats,
+    ) -> f64 {
+        let mut sk = [0.0; N];
+        let (mut dnf, mut dny) = (0.0, 0.0);
+        for i in 0..N {
+            sk[i] = self.atol + self.rtol * y[i].abs();
+            dnf += scaled(f0[i], sk[i]).powi(2);
+            dny += scaled(y[i], sk[i]).powi(2);
+        }
+        let mut h = if dnf <= 1e-10 || dny <= 1e-10 {
+            1e-6
+        } else {
+            (dny / dnf).sqrt() * 0.01
+        };
+        h = h.min(h_max);
+        let mut y1 = [0.0; N];
+        for i in 0..N {
+            y1[i] = y[i] + h * f0[i];
+        }
+        let mut f1 = [0.0; N];
+        sys.rhs(t + h, &y1, &mut f1);
+        stats.rhs_evals += 1;
+        let mut der2 = 0.0;
+        for i in 0..N {
+            der2 += scaled(f1[i] - f0[i], sk[i]).powi(2);
+        }
+        let der2 = der2.sqrt() / h;
+        let der12 = der2.abs().max(dnf.sqrt());
+        let h1 = if der12 <= 1e-15 {
+            (h * 1e-3).max(1e-6)
+        } else {
+            (0.01 / der12).powf(ERR_EXPONENT)
+        };
+        let h_new = (100.0 * h).min(h1).min(h_max);
+        if h_new > 0.0 && h_new.is_finite() {
+            h_new
+        } else {
+            // Degenerate scales (e.g. atol = 0 with a zero component): Hairer's fallback.
+            1e-6f64.min(h_max)
+        }
+    }
+}
+
+/// `e / sk` for the error norms, with a zero scale (possible only when `atol = 0`)
+/// giving 0 for `e == 0` and infinity otherwise, never NaN for finite `e`.
+#[inline]
+fn scaled(e: f64, sk: f64) -> f64 {
+    if sk > 0.0 {
+        e / sk
+    } else if e == 0.0 {
+        0.0
+    } else {
+        f64::INFINITY
+    }
+}

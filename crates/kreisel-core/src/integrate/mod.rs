@@ -1,0 +1,348 @@
+//! General-purpose ODE integrators for fixed-size first-order systems `y' = f(t, y)`.
+//!
+//! The state is a stack array `[f64; N]`; no integrator allocates inside its step
+//! loop (all work arrays are `[f64; N]` on the stack or in a preallocated work
+//! struct). Two integrators share one interface:
+//!
+//! * [`Dop853`]: the adaptive explicit Runge–Kutta method of order 8 with embedded
+//!   5th- and 3rd-order error estimators and a 7th-order continuous extension
+//!   (Dormand & Prince; E. Hairer, S. P. Nørsett, G. Wanner, *Solving Ordinary
+//!   Differential Equations I*, 2nd ed., Springer 1993, Sec. II.5/II.6; Hairer's
+//!   `dop853.f`).
+//! * [`Rk4`]: the classic fixed-step 4th-order Runge–Kutta method with a cubic
+//!   Hermite dense output (3rd order).
+//!
+//! The structure-preserving schemes of the tops live beside them: [`splitting`]
+//! (explicit Lie-Poisson splitting of heavy tops, orders 2, 4, 6), [`verlet`]
+//! (Stoermer-Verlet on the Euler-angle Hamiltonian), [`implicit`] (implicit midpoint and
+//! 2-stage Gauss-Legendre), all driven by [`fixed`].
+//!
+//! Both drive an [`Observer`] that sees every accepted step together with a
+//! [`Dense`] interpolant over it. Ready-made observers: [`SampleAt`] (values at
+//! prescribed times), [`EveryStep`] (every accepted step), [`NullObserver`],
+//! [`FnObserver`] (a closure), and event location with [`Locator`] /
+//! [`WithEvents`] (see [`events`]).
+//!
+//! Scope: forward integration only (`t_end >= t0`; `t_end == t0` returns the
+//! initial state), scalar tolerances. The drivers allocate nothing; among the
+//! observers, [`SampleAt`] allocates its output once at construction, while
+//! [`EveryStep`] and [`Locator::events`] grow with the number of steps/events
+//! (reserve them to avoid reallocation).
+//!
+//! ```
+//! use kreisel_core::integrate::{Dop853, FnSystem, SampleAt};
+//!
+//! // Harmonic oscillator x'' = -x.
+//! let sys = FnSystem(|_t: f64, y: &[f64; 2], dy: &mut [f64; 2]| {
+//!     dy[0] = y[1];
+//!     dy[1] = -y[0];
+//! });
+//! let times = [0.0, 1.0, 2.0];
+//! let mut samples = SampleAt::new(&times);
+//! let (t, y, stats) = Dop853::new(1e-10, 1e-10)
+//!     .integrate(&sys, 0.0, [0.0, 1.0], 2.0, &mut samples)
+//!     .unwrap();
+//! assert_eq!(t, 2.0);
+//! assert!((y[0] - 2f64.sin()).abs() < 1e-9);
+//! assert!((samples.out[1][0] - 1f64.sin()).abs() < 1e-9);
+//! assert!(stats.steps > 0);
+//! ```
+
+use std::fmt;
+use std::ops::ControlFlow;
+
+pub mod dop853;
+pub mod events;
+pub mod fixed;
+pub mod implicit;
+pub mod rk4;
+pub mod splitting;
+pub mod verlet;
+
+pub use dop853::{Dop853, Dop853Dense, Dop853Work};
+pub use events::{Event, EventFn, EventSpec, Locator, WithEvents};
+pub use rk4::{Rk4, Rk4Dense};
+
+/// A first-order system `y' = f(t, y)` of fixed dimension `N`.
+pub trait OdeSystem<const N: usize> {
+    /// Writes `f(t, y)` into `dy`.
+    ///
+    /// Every entry of `dy` must be written. Non-finite values are detected by the
+    /// integrators and reported as [`IntegrateError::NonFinite`].
+    fn rhs(&self, t: f64, y: &[f64; N], dy: &mut [f64; N]);
+
+    /// Called on every accepted step's new state (e.g. to renormalise a quaternion). Default: nothing.
+    ///
+    /// The integrators project an accepted state before evaluating `f` there, so
+    /// the next step and the dense output start from the projected state at no
+    /// extra cost; the dense output of a step ends exactly at the projected state
+    /// (it is continuous across steps), and its order is unaffected as long as the
+    /// projection moves the state by no more than the local error. The initial
+    /// state is not projected.
+    fn project(&self, _y: &mut [f64; N]) {}
+}
+
+/// An [`OdeSystem`] given by a closure `|t, y, dy| ...` (no projection).
+#[derive(Clone, Copy, Debug)]
+pub struct FnSystem<F>(pub F);
+
+impl<const N: usize, F> OdeSystem<N> for FnSystem<F>
+where
+    F: Fn(f64, &[f64; N], &mut [f64; N]),
+{
+    fn rhs(&self, t: f64, y: &[f64; N], dy: &mut [f64; N]) {
+        (self.0)(t, y, dy)
+    }
+}
+
+/// Dense output over one accepted step [t0, t0 + h]: evaluate the interpolant at any t in it.
+///
+/// `eval(t0())` returns the step's initial state and `eval(t1())` its final
+/// (accepted, projected) state bit-exactly. Evaluating outside `[t0, t1]`
+/// extrapolates the polynomial and is not meaningful.
+pub trait Dense<const N: usize> {
+    /// Start of the step.
+    fn t0(&self) -> f64;
+    /// End of the step.
+    fn t1(&self) -> f64;
+    /// Writes the interpolated state at `t` into `out`.
+    fn eval(&self, t: f64, out: &mut [f64; N]);
+}
+
+/// What the driver reports to its caller after each accepted step (no allocation per step).
+///
+/// The drivers call [`Observer::start`] once with the initial state, then
+/// [`Observer::step`] after every accepted step. When `step` returns
+/// `ControlFlow::Break(())` the driver stops and asks [`Observer::stop_point`]
+/// for the state to return (default: the end of that step).
+pub trait Observer<const N: usize> {
+    /// `dense` covers [t_prev, t]; return ControlFlow::Break(()) to stop the integration at t.
+    ///
+    /// `y` is the accepted (projected) state at `t`; `dense.eval(t)` equals it.
+    fn step(&mut self, t: f64, y: &[f64; N], dense: &dyn Dense<N>) -> ControlFlow<()>;
+
+    /// Called once before the first step with the initial state (also when
+    /// `t_end == t0`). Default: nothing.
+    fn start(&mut self, _t0: f64, _y0: &[f64; N]) {}
+
+    /// Where the integration stopped, if `step` broke off at an earlier point of
+    /// the last step (e.g. a terminal event). Consulted only after `step`
+    /// returned `Break`; `Some((t_stop, y_stop))` with `t_stop` inside that step
+    /// makes the driver return `(t_stop, y_stop)` instead of the step's end.
+    /// Default: `None`.
+    fn stop_point(&self) -> Option<(f64, [f64; N])> {
+        None
+    }
+}
+
+/// A borrowed observer observes too (so a caller can keep ownership of its recorder).
+impl<O: Observer<N> + ?Sized, const N: usize> Observer<N> for &mut O {
+    fn start(&mut self, t0: f64, y0: &[f64; N]) {
+        (**self).start(t0, y0)
+    }
+    fn step(&mut self, t: f64, y: &[f64; N], dense: &dyn Dense<N>) -> ControlFlow<()> {
+        (**self).step(t, y, dense)
+    }
+    fn stop_point(&self) -> Option<(f64, [f64; N])> {
+        (**self).stop_point()
+    }
+}
+
+/// An [`Observer`] that ignores every step.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct NullObserver;
+
+impl<const N: usize> Observer<N> for NullObserver {
+    fn step(&mut self, _t: f64, _y: &[f64; N], _dense: &dyn Dense<N>) -> ControlFlow<()> {
+        ControlFlow::Continue(())
+    }
+}
+
+/// An [`Observer`] given by a closure `|t, y, dense| -> ControlFlow<()>`.
+#[derive(Clone, Copy, Debug)]
+pub struct FnObserver<F>(pub F);
+
+impl<const N: usize, F> Observer<N> for FnObserver<F>
+where
+    F: FnMut(f64, &[f64; N], &dyn Dense<N>) -> ControlFlow<()>,
+{
+    fn step(&mut self, t: f64, y: &[f64; N], dense: &dyn Dense<N>) -> ControlFlow<()> {
+        (self.0)(t, y, dense)
+    }
+}
+
+/// Observer that samples the solution at prescribed times from the dense output.
+///
+/// `out[i]` is the state at `times[i]`. `times` must be sorted ascending. A time
+/// equal to `t0` gets the initial state and a time equal to the end of a step
+/// (in particular `t_end`) gets the accepted state, both bit-exactly; times in
+/// between are interpolated with the integrator's dense output. Times before
+/// `t0` get `[NaN; N]` (so indices stay aligned); times after the point where
+/// the integration stopped are not filled (`out.len() < times.len()`, see
+/// [`SampleAt::is_complete`]). `out` is allocated once, in [`SampleAt::new`].
+#[derive(Clone, Debug)]
+pub struct SampleAt<'a, const N: usize> {
+    /// Requested sample times, ascending.
+    pub times: &'a [f64],
+    /// Sampled states, `out[i]` at `times[i]`.
+    pub out: Vec<[f64; N]>,
+}
+
+impl<'a, const N: usize> SampleAt<'a, N> {
+    /// Creates the sampler; panics in debug builds if `times` is not sorted.
+    pub fn new(times: &'a [f64]) -> Self {
+        debug_assert!(
+            times.windows(2).all(|w| w[0] <= w[1]),
+            "SampleAt: times must be sorted ascending"
+        );
+        Self {
+            times,
+            out: Vec::with_capacity(times.len()),
+        }
+    }
+
+    /// Whether every requested time has been sampled.
+    pub fn is_complete(&self) -> bool {
+        self.out.len() == self.times.len()
+    }
+}
+
+impl<const N: usize> Observer<N> for SampleAt<'_, N> {
+    fn start(&mut self, t0: f64, y0: &[f64; N]) {
+        self.out.clear();
+        for &ts in self.times {
+            if ts < t0 {
+                self.out.push([f64::NAN; N]);
+            } else if ts == t0 {
+                self.out.push(*y0);
+            } else {
+                break;
+            }
+        }
+    }
+
+    fn step(&mut self, t: f64, y: &[f64; N], dense: &dyn Dense<N>) -> ControlFlow<()> {
+        while let Some(&ts) = self.times.get(self.out.len()) {
+            if ts > t {
+                break;
+            }
+            if ts == t {
+                self.out.push(*y);
+            } else {
+                let mut v = [0.0; N];
+                dense.eval(ts, &mut v);
+                self.out.push(v);
+            }
+        }
+        ControlFlow::Continue(())
+    }
+}
+
+/// Observer that records `(t, y)` after every accepted step, plus the initial state.
+///
+/// The vectors grow by one entry per step (amortised reallocation); use
+/// [`EveryStep::with_capacity`] to preallocate.
+#[derive(Clone, Debug, Default)]
+pub struct EveryStep<const N: usize> {
+    /// Times: `t0`, then the end of every accepted step.
+    pub ts: Vec<f64>,
+    /// States at `ts`.
+    pub ys: Vec<[f64; N]>,
+}
+
+impl<const N: usize> EveryStep<N> {
+    /// Creates an empty recorder.
+    pub fn new() -> Self {
+        Self {
+            ts: Vec::new(),
+            ys: Vec::new(),
+        }
+    }
+
+    /// Creates a recorder with room for `n` entries.
+    pub fn with_capacity(n: usize) -> Self {
+        Self {
+            ts: Vec::with_capacity(n),
+            ys: Vec::with_capacity(n),
+        }
+    }
+}
+
+impl<const N: usize> Observer<N> for EveryStep<N> {
+    fn start(&mut self, t0: f64, y0: &[f64; N]) {
+        self.ts.clear();
+        self.ys.clear();
+        self.ts.push(t0);
+        self.ys.push(*y0);
+    }
+
+    fn step(&mut self, t: f64, y: &[f64; N], _dense: &dyn Dense<N>) -> ControlFlow<()> {
+        self.ts.push(t);
+        self.ys.push(*y);
+        ControlFlow::Continue(())
+    }
+}
+
+/// Whether every component is finite.
+#[inline]
+pub(crate) fn all_finite<const N: usize>(y: &[f64; N]) -> bool {
+    y.iter().all(|v| v.is_finite())
+}
+
+/// Per-run counters returned by the integrators.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Stats {
+    /// Accepted steps.
+    pub steps: u64,
+    /// Rejected step attempts (error too large or non-finite trial values).
+    pub rejected: u64,
+    /// Right-hand-side evaluations, including those of the initial-step
+    /// heuristic, of projections and of (lazily computed) dense output.
+    pub rhs_evals: u64,
+}
+
+/// Why an integration stopped before reaching `t_end`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum IntegrateError {
+    /// The step size fell below `10 * f64::EPSILON * |t|` at time `t`.
+    StepSizeTooSmall {
+        /// Time of the last accepted state.
+        t: f64,
+        /// The step size that was too small.
+        h: f64,
+    },
+    /// `max_steps` step attempts (accepted + rejected) were used before `t_end`.
+    TooManySteps {
+        /// Time of the last accepted state.
+        t: f64,
+        /// Step attempts made.
+        steps: u64,
+    },
+    /// The right-hand side or the new state was NaN or infinite and could not be
+    /// avoided by shrinking the step.
+    NonFinite {
+        /// Time of the last state at which everything was finite.
+        t: f64,
+    },
+}
+
+impl fmt::Display for IntegrateError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            IntegrateError::StepSizeTooSmall { t, h } => {
+                write!(f, "step size too small (h = {h:e}) at t = {t}")
+            }
+            IntegrateError::TooManySteps { t, steps } => {
+                write!(f, "too many steps ({steps}) at t = {t}")
+            }
+            IntegrateError::NonFinite { t } => {
+                write!(f, "non-finite right-hand side or state after t = {t}")
+            }
+        }
+    }
+}
+
+impl std::error::Error for IntegrateError {}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,166 @@
+//! Quaternions `(w, x, y, z)`, scalar first. A unit quaternion q rotates body-frame vectors
+//! into the space frame: `v_space = q v_body q*`.
+
+use super::{cross, dot};
+
+/// A quaternion, scalar first.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Quat(pub [f64; 4]);
+
+impl Quat {
+    /// The identity rotation.
+    pub const IDENTITY: Quat = Quat([1.0, 0.0, 0.0, 0.0]);
+
+    /// Rotation by `angle` (rad) about the unit vector `axis`.
+    #[inline]
+    pub fn from_axis_angle(axis: [f64; 3], angle: f64) -> Quat {
+        let (s, c) = (0.5 * angle).sin_cos();
+        Quat([c, s * axis[0], s * axis[1], s * axis[2]])
+    }
+
+    /// Rotation by the vector `v` (angle |v| about v/|v|), the exponential map.
+    #[inline]
+    pub fn from_rotation_vector(v: [f64; 3]) -> Quat {
+        let a = dot(v, v).sqrt();
+        if a < 1e-8 {
+            // sin(a/2)/a = 1/2 - a^2/48 + ..., cos(a/2) = 1 - a^2/8 + a^4/384
+            let k = 0.5 - a * a / 48.0;
+            Quat([
+                1.0 - a * a / 8.0 + a * a * a * a / 384.0,
+                k * v[0],
+                k * v[1],
+                k * v[2],
+            ])
+        } else {
+            let (s, c) = (0.5 * a).sin_cos();
+            let k = s / a;
+            Quat([c, k * v[0], k * v[1], k * v[2]])
+        }
+    }
+
+    /// Hamilton product `self * o` (also the `*` operator).
+    #[inline(always)]
+    pub fn hamilton(self, o: Quat) -> Quat {
+        let [a0, a1, a2, a3] = self.0;
+        let [b0, b1, b2, b3] = o.0;
+        Quat([
+            a0 * b0 - a1 * b1 - a2 * b2 - a3 * b3,
+            a0 * b1 + a1 * b0 + a2 * b3 - a3 * b2,
+            a0 * b2 - a1 * b3 + a2 * b0 + a3 * b1,
+            a0 * b3 + a1 * b2 - a2 * b1 + a3 * b0,
+        ])
+    }
+
+    /// Euclidean norm.
+    #[inline(always)]
+    pub fn norm(self) -> f64 {
+        let q = self.0;
+        (q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]).sqrt()
+    }
+
+    /// This quaternion scaled to unit norm.
+    #[inline(always)]
+    pub fn normalized(self) -> Quat {
+        let n = self.norm();
+        Quat(self.0.map(|x| x / n))
+    }
+
+    /// Rotates a body-frame vector into the space frame.
+    #[inline(always)]
+    pub fn rotate(self, v: [f64; 3]) -> [f64; 3] {
+        let w = self.0[0];
+        let u = [self.0[1], self.0[2], self.0[3]];
+        let t = cross(u, v).map(|x| 2.0 * x);
+        let ut = cross(u, t);
+        [
+            v[0] + w * t[0] + ut[0],
+            v[1] + w * t[1] + ut[1],
+            v[2] + w * t[2] + ut[2],
+        ]
+    }
+
+    /// Rotates a space-frame vector into the body frame (the inverse rotation).
+    #[inline(always)]
+    pub fn rotate_inv(self, v: [f64; 3]) -> [f64; 3] {
+        Quat([self.0[0], -self.0[1], -self.0[2], -self.0[3]]).rotate(v)
+    }
+
+    /// The upward vertical e_z seen in the body frame (third row of the rotation matrix).
+    #[inline(always)]
+    pub fn up_in_body(self) -> [f64; 3] {
+        let [w, x, y, z] = self.0;
+        [
+            2.0 * (x * z - w * y),
+            2.0 * (y * z + w * x),
+            w * w - x * x - y * y + z * z,
+        ]
+    }
+
+    /// The rotation matrix (row-major).
+    pub fn matrix(self) -> [[f64; 3]; 3] {
+        let [w, x, y, z] = self.0;
+        [
+            [
+                1.0 - 2.0 * (y * y + z * z),
+                2.0 * (x * y - w * z),
+                2.0 * (x * z + w * y),
+            ],
+            [
+                2.0 * (x * y + w * z),
+                1.0 - 2.0 * (x * x + z * z),
+                2.0 * (y * z - w * x),
+            ],
+            [
+                2.0 * (x * z - w * y),
+                2.0 * (y * z + w * x),
+                1.0 - 2.0 * (x * x + y * y),
+            ],
+        ]
+    }
+}
+
+impl std::ops::Mul for Quat {
+    type Output = Quat;
+    #[inline(always)]
+    fn mul(self, o: Quat) -> Quat {
+        self.hamilton(o)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rotation_matches_matrix_and_inverse() {
+        let q = Quat([0.3, -0.5, 0.7, 0.2]).normalized();
+        let m = q.matrix();
+        let v = [0.4, -1.3, 2.2];
+        let r = q.rotate(v);
+        for i in 0..3 {
+            let mv = m[i][0] * v[0] + m[i][1] * v[1] + m[i][2] * v[2];
+            assert!((r[i] - mv).abs() < 1e-14);
+        }
+        let back = q.rotate_inv(r);
+        for i in 0..3 {
+            assert!((back[i] - v[i]).abs() < 1e-14);
+        }
+        let up = q.up_in_body();
+        let up2 = q.rotate_inv([0.0, 0.0, 1.0]);
+        for i in 0..3 {
+            assert!((up[i] - up2[i]).abs() < 1e-14);
+        }
+    }
+
+    #[test]
+    fn composition_is_successive_rotation() {
+        let a = Quat::from_axis_angle([0.0, 0.0, 1.0], 0.7);
+        let b = Quat::from_rotation_vector([0.3, -0.2, 0.5]);
+        let v = [1.0, 2.0, -0.5];
+        let ab = a.hamilton(b).rotate(v);
+        let seq = a.rotate(b.rotate(v));
+        for i in 0..3 {
+            assert!((ab[i] - seq[i]).abs() < 1e-14);
+        }
+    }
+}

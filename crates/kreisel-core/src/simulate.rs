@@ -1,0 +1,590 @@
+//! Simulation of heavy tops: one entry point for every method, one output format.
+
+use crate::error::{KreiselError, Result};
+use crate::integrate::fixed::{self, FixedScheme};
+use crate::integrate::implicit::{Gauss4, Midpoint};
+use crate::integrate::rk4::Rk4Scheme;
+use crate::integrate::splitting::Splitting;
+use crate::integrate::verlet::Verlet;
+use crate::integrate::{
+    Dense, Dop853, EventSpec, EveryStep, IntegrateError, Locator, Observer, OdeSystem, SampleAt,
+    WithEvents,
+};
+use crate::models::heavy_top::{HeavyTop, RigidState};
+use crate::rotation::{cross, euler_from_quaternion, Quat};
+use std::ops::ControlFlow;
+
+/// What a method is and can do.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct MethodInfo {
+    /// Public name.
+    pub name: &'static str,
+    /// Order of accuracy.
+    pub order: u32,
+    /// Adaptive step size (else `dt` is required).
+    pub adaptive: bool,
+    /// Symplectic (Lie-Poisson for the splittings).
+    pub symplectic: bool,
+    /// Supports event location.
+    pub events: bool,
+    /// One line on what it is.
+    pub summary: &'static str,
+}
+
+/// Every method `simulate` knows.
+pub const METHODS: [MethodInfo; 8] = [
+    MethodInfo { name: "dop853", order: 8, adaptive: true, symplectic: false, events: true, summary: "Dormand-Prince 8(5,3), adaptive, dense output of order 7" },
+    MethodInfo { name: "rk4", order: 4, adaptive: false, symplectic: false, events: false, summary: "classic fixed-step Runge-Kutta" },
+    MethodInfo { name: "splitting", order: 2, adaptive: false, symplectic: true, events: false, summary: "kick-drift-kick of exact free rotation and gravity kick" },
+    MethodInfo { name: "splitting4", order: 4, adaptive: false, symplectic: true, events: false, summary: "Yoshida triple jump of the splitting" },
+    MethodInfo { name: "splitting6", order: 6, adaptive: false, symplectic: true, events: false, summary: "Yoshida's 7-stage composition of the splitting" },
+    MethodInfo { name: "verlet", order: 2, adaptive: false, symplectic: true, events: false, summary: "Stoermer-Verlet on the Euler-angle Hamiltonian (symmetric tops; singular at the vertical)" },
+    MethodInfo { name: "midpoint", order: 2, adaptive: false, symplectic: true, events: false, summary: "implicit midpoint rule" },
+    MethodInfo { name: "gauss4", order: 4, adaptive: false, symplectic: true, events: false, summary: "2-stage Gauss-Legendre, implicit" },
+];
+
+/// Looks a method up by name.
+pub fn method(name: &str) -> Result<MethodInfo> {
+    METHODS
+        .iter()
+        .copied()
+        .find(|m| m.name == name)
+        .ok_or_else(|| KreiselError::InvalidParameter {
+            name: "method".into(),
+            value: format!("{name:?}"),
+            allowed: format!(
+                "known methods are {}",
+                METHODS
+                    .iter()
+                    .map(|m| m.name)
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+        })
+}
+
+/// Settings of one simulation.
+#[derive(Debug, Clone)]
+pub struct Settings {
+    /// Method name (see [`METHODS`]).
+    pub method: String,
+    /// End time (s), >= 0.
+    pub t_end: f64,
+    /// Relative tolerance (adaptive methods).
+    pub rtol: f64,
+    /// Absolute tolerance (adaptive methods).
+    pub atol: f64,
+    /// Step (fixed-step methods).
+    pub dt: Option<f64>,
+    /// Output times (ascending, in [0, t_end]); None: every step.
+    pub t_eval: Option<Vec<f64>>,
+}
+
+/// Counters of one simulation.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Stats {
+    /// Accepted steps.
+    pub steps: u64,
+    /// Rejected steps.
+    pub rejected: u64,
+    /// Right-hand-side evaluations (0 for the splittings, which use none).
+    pub rhs_evals: u64,
+}
+
+/// A simulated motion: times and states.
+#[derive(Debug, Clone, Default)]
+pub struct Output {
+    /// Times (s).
+    pub t: Vec<f64>,
+    /// States at those times.
+    pub states: Vec<RigidState>,
+    /// Events that happened: (index of the event function, time).
+    pub events: Vec<(usize, f64)>,
+    /// Counters.
+    pub stats: Stats,
+}
+
+/// A user event function of (t, state).
+pub type UserEventFn<'a> = Box<dyn FnMut(f64, &RigidState) -> f64 + 'a>;
+
+type RawEventFn<'a, const N: usize> = Box<dyn FnMut(f64, &[f64; N]) -> f64 + 'a>;
+
+/// What an event function looks at.
+pub enum EventKind<'a> {
+    /// Turning points of the nutation: the sign of theta_dot.
+    TurningPoints,
+    /// theta crossing a value (rad): `cos(value) - cos(theta)`, increasing with theta.
+    ThetaCrossing(f64),
+    /// A user function of (t, state).
+    User(UserEventFn<'a>),
+}
+
+/// An event: what it looks at, which crossings count, and whether it ends the run.
+pub struct EventDef<'a> {
+    /// The event function.
+    pub kind: EventKind<'a>,
+    /// -1, 0 or +1: crossings from + to -, both, or from - to +.
+    pub direction: i8,
+    /// Stop at the first such event.
+    pub terminal: bool,
+}
+
+impl EventKind<'_> {
+    fn eval(&mut self, t: f64, s: &RigidState) -> f64 {
+        match self {
+            EventKind::TurningPoints => {
+                // u = cos(theta) = Gamma_3 and du/dt = (Gamma x omega)_3; theta_dot has the
+                // sign of -du/dt.
+                let g = s.q.up_in_body();
+                -(g[0] * s.omega[1] - g[1] * s.omega[0])
+            }
+            EventKind::ThetaCrossing(v) => v.cos() - s.q.up_in_body()[2],
+            EventKind::User(f) => f(t, s),
+        }
+    }
+}
+
+/// The heavy top as a first-order system in y = (q, omega).
+pub struct QOmega<'a>(pub &'a HeavyTop);
+
+impl OdeSystem<7> for QOmega<'_> {
+    #[inline(always)]
+    fn rhs(&self, _t: f64, y: &[f64; 7], dy: &mut [f64; 7]) {
+        self.0.rhs(y, dy);
+    }
+    fn project(&self, y: &mut [f64; 7]) {
+        let n = (y[0] * y[0] + y[1] * y[1] + y[2] * y[2] + y[3] * y[3]).sqrt();
+        for v in y.iter_mut().take(4) {
+            *v /= n;
+        }
+    }
+}
+
+/// The heavy top in y = (q, M, Gamma), whose quadratic invariants (|q|, |Gamma|, M.Gamma and
+/// the energy) the implicit Gauss methods keep.
+pub struct QMGamma<'a>(pub &'a HeavyTop);
+
+impl OdeSystem<10> for QMGamma<'_> {
+    fn rhs(&self, _t: f64, y: &[f64; 10], dy: &mut [f64; 10]) {
+        let top = self.0;
+        let m = [y[4], y[5], y[6]];
+        let gm = [y[7], y[8], y[9]];
+        let w = top.omega(m);
+        let dq = Quat([y[0], y[1], y[2], y[3]]).hamilton(Quat([0.0, w[0], w[1], w[2]]));
+        let dm = cross(m, w);
+        let tq = cross(gm, top.mgc());
+        let dg = cross(gm, w);
+        for (d, x) in dy.iter_mut().zip(dq.0) {
+            *d = 0.5 * x;
+        }
+        for i in 0..3 {
+            dy[4 + i] = dm[i] + tq[i];
+            dy[7 + i] = dg[i];
+        }
+    }
+}
+
+fn pack7(s: &RigidState) -> [f64; 7] {
+    let q = s.q.0;
+    [q[0], q[1], q[2], q[3], s.omega[0], s.omega[1], s.omega[2]]
+}
+
+fn unpack7(y: &[f64; 7]) -> RigidState {
+    RigidState {
+        q: Quat([y[0], y[1], y[2], y[3]]).normalized(),
+        omega: [y[4], y[5], y[6]],
+    }
+}
+
+/// Validates the settings against the method.
+pub fn check(settings: &Settings, info: &MethodInfo) -> Result<()> {
+    let t_end = settings.t_end;
+    if !(t_end.is_finite() && t_end >= 0.0) {
+        return Err(KreiselError::invalid(
+            "t_end",
+            t_end,
+            "it must be a finite number >= 0",
+        ));
+    }
+    if info.adaptive {
+        let (r, a) = (settings.rtol, settings.atol);
+        if !(r.is_finite() && (1e-15..1.0).contains(&r)) {
+            return Err(KreiselError::invalid(
+                "rtol",
+                r,
+                "it must lie in [1e-15, 1)",
+            ));
+        }
+        if !(a.is_finite() && a > 0.0) {
+            return Err(KreiselError::invalid(
+                "atol",
+                a,
+                "it must be a finite number > 0",
+            ));
+        }
+    } else {
+        match settings.dt {
+            None => {
+                return Err(KreiselError::InvalidParameter {
+                    name: "dt".into(),
+                    value: "None".into(),
+                    allowed: format!("method {:?} has a fixed step: give dt > 0", info.name),
+                })
+            }
+            Some(dt) if !(dt.is_finite() && dt > 0.0) => {
+                return Err(KreiselError::invalid(
+                    "dt",
+                    dt,
+                    "it must be a finite number > 0",
+                ))
+            }
+            _ => {}
+        }
+    }
+    if let Some(te) = &settings.t_eval {
+        for (i, w) in te.windows(2).enumerate() {
+            if w[1] < w[0] {
+                return Err(KreiselError::invalid(
+                    &format!("t_eval[{}]", i + 1),
+                    w[1],
+                    "output times must be ascending",
+                ));
+            }
+        }
+        if let Some(&bad) = te
+            .iter()
+            .find(|&&x| !(x.is_finite() && (0.0..=t_end).contains(&x)))
+        {
+            return Err(KreiselError::invalid(
+                "t_eval",
+                bad,
+                format!("output times must lie in [0, t_end = {t_end}]"),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Runs a fixed-step scheme and decodes its states.
+fn run_fixed<S: FixedScheme>(
+    scheme: &S,
+    y0: S::Y,
+    settings: &Settings,
+    decode: impl Fn(&S::Y) -> RigidState,
+    rhs_per_step: u64,
+) -> Result<Output> {
+    let dt = settings.dt.expect("checked");
+    let mut out = Output::default();
+    fixed::run(
+        scheme,
+        y0,
+        settings.t_end,
+        dt,
+        settings.t_eval.as_deref(),
+        |t, y| {
+            out.t.push(t);
+            out.states.push(decode(y));
+        },
+    )?;
+    let steps = ((settings.t_end / dt) * (1.0 - 1e-12)).ceil() as u64;
+    out.stats = Stats {
+        steps,
+        rejected: 0,
+        rhs_evals: steps * rhs_per_step,
+    };
+    Ok(out)
+}
+
+/// Simulates a heavy top: every method, events for those that locate them.
+///
+/// `keep_going(t)` is called after every accepted step; returning false stops the run
+/// there (cancellation, or an error raised inside a user event function).
+pub fn simulate(
+    top: &HeavyTop,
+    s0: &RigidState,
+    settings: &Settings,
+    events: &mut [EventDef<'_>],
+    reduced: bool,
+    keep_going: &mut dyn FnMut(f64) -> bool,
+) -> Result<Output> {
+    let info = method(&settings.method)?;
+    check(settings, &info)?;
+    if !events.is_empty() && !info.events {
+        return Err(KreiselError::InvalidParameter {
+            name: "events".into(),
+            value: format!("{} event(s)", events.len()),
+            allowed: format!(
+                "method {:?} has no dense output to locate events; use \"dop853\"",
+                info.name
+            ),
+        });
+    }
+    let integrator = match info.name {
+        "dop853" => Dop853 {
+            rtol: settings.rtol,
+            atol: settings.atol,
+            h_init: None,
+            h_max: f64::INFINITY,
+            max_steps: 100_000_000,
+        },
+        "rk4" => {
+            return if reduced {
+                let (sch, y0) = Verlet::new(top, s0)?;
+                let rk = Rk4Scheme::<_, 4> { sys: &sch };
+                run_fixed(
+                    &rk,
+                    (Verlet::pack(&y0), 0.0),
+                    settings,
+                    |y| sch.decode_packed(&y.0),
+                    4,
+                )
+            } else {
+                let sys = QOmega(top);
+                let rk = Rk4Scheme::<_, 7> { sys: &sys };
+                run_fixed(&rk, (pack7(s0), 0.0), settings, |y| unpack7(&y.0), 4)
+            }
+        }
+        _ if reduced => {
+            return Err(KreiselError::InvalidParameter {
+                name: "reduced".into(),
+                value: "True".into(),
+                allowed: "the reduced route runs with the general-purpose methods \"dop853\" \
+                          and \"rk4\"; the structure-preserving ones integrate the whole top"
+                    .into(),
+            })
+        }
+        _ => return simulate_fixed(top, s0, settings),
+    };
+    if reduced {
+        let (sch, y0) = Verlet::new(top, s0)?;
+        run_ode(
+            &integrator,
+            &sch,
+            Verlet::pack(&y0),
+            |y| sch.decode_packed(y),
+            settings,
+            events,
+            keep_going,
+        )
+    } else {
+        run_ode(
+            &integrator,
+            &QOmega(top),
+            pack7(s0),
+            unpack7,
+            settings,
+            events,
+            keep_going,
+        )
+    }
+}
+
+/// Records every accepted step or the requested times, and asks `keep_going`.
+struct Recorder<'a, 'b, const N: usize> {
+    every: Option<EveryStep<N>>,
+    sample: Option<SampleAt<'a, N>>,
+    keep_going: &'b mut dyn FnMut(f64) -> bool,
+}
+
+impl<const N: usize> Observer<N> for Recorder<'_, '_, N> {
+    fn start(&mut self, t0: f64, y0: &[f64; N]) {
+        if let Some(e) = self.every.as_mut() {
+            e.start(t0, y0);
+        }
+        if let Some(s) = self.sample.as_mut() {
+            s.start(t0, y0);
+        }
+    }
+    fn step(&mut self, t: f64, y: &[f64; N], dense: &dyn Dense<N>) -> ControlFlow<()> {
+        if let Some(e) = self.every.as_mut() {
+            let _ = e.step(t, y, dense);
+        }
+        if let Some(s) = self.sample.as_mut() {
+            let _ = s.step(t, y, dense);
+        }
+        if (self.keep_going)(t) {
+            ControlFlow::Continue(())
+        } else {
+            ControlFlow::Break(())
+        }
+    }
+}
+
+fn integrate_error(e: IntegrateError) -> KreiselError {
+    KreiselError::Numerical(format!("{e}"))
+}
+
+fn run_ode<const N: usize, S: OdeSystem<N>>(
+    integrator: &Dop853,
+    sys: &S,
+    y0: [f64; N],
+    decode: impl Fn(&[f64; N]) -> RigidState,
+    settings: &Settings,
+    events: &mut [EventDef<'_>],
+    keep_going: &mut dyn FnMut(f64) -> bool,
+) -> Result<Output> {
+    let mut recorder = Recorder {
+        every: settings.t_eval.is_none().then(EveryStep::new),
+        sample: settings.t_eval.as_deref().map(SampleAt::new),
+        keep_going,
+    };
+    let specs: Vec<EventSpec> = events
+        .iter()
+        .map(|e| EventSpec::new(e.direction, e.terminal))
+        .collect();
+    let mut fns: Vec<RawEventFn<'_, N>> = events
+        .iter_mut()
+        .map(|e| {
+            let kind = &mut e.kind;
+            let decode = &decode;
+            Box::new(move |t: f64, y: &[f64; N]| kind.eval(t, &decode(y))) as RawEventFn<'_, N>
+        })
+        .collect();
+    let mut locator = Locator::new();
+    for (f, spec) in fns.iter_mut().zip(&specs) {
+        locator.add(*spec, f.as_mut());
+    }
+    let mut obs = WithEvents::new(locator, &mut recorder);
+    let t_end = settings.t_end;
+    let result = integrator.integrate(sys, 0.0, y0, t_end, &mut obs);
+    let (_, _, st) = result.map_err(integrate_error)?;
+    let hits: Vec<(usize, f64)> = obs.locator.events.iter().map(|e| (e.index, e.t)).collect();
+    drop(obs);
+    drop(fns);
+    let mut out = Output {
+        events: hits,
+        stats: Stats {
+            steps: st.steps,
+            rejected: st.rejected,
+            rhs_evals: st.rhs_evals,
+        },
+        ..Output::default()
+    };
+    if let Some(e) = recorder.every {
+        out.t = e.ts;
+        out.states = e.ys.iter().map(&decode).collect();
+    } else if let Some(s) = recorder.sample {
+        let n = s.out.len();
+        out.t = settings.t_eval.as_ref().expect("sampled")[..n].to_vec();
+        out.states = s.out.iter().map(&decode).collect();
+    }
+    Ok(out)
+}
+
+/// Simulates a heavy top with a fixed-step method.
+pub fn simulate_fixed(top: &HeavyTop, s0: &RigidState, settings: &Settings) -> Result<Output> {
+    let info = method(&settings.method)?;
+    check(settings, &info)?;
+    match info.name {
+        "splitting" | "splitting4" | "splitting6" => {
+            let sch = Splitting::new(top, info.order)?;
+            run_fixed(&sch, sch.encode(s0), settings, |y| sch.decode(y), 0)
+        }
+        "verlet" => {
+            let (sch, y0) = Verlet::new(top, s0)?;
+            run_fixed(&sch, y0, settings, |y| sch.decode(y), 0)
+        }
+        "midpoint" | "gauss4" => {
+            let sys = QMGamma(top);
+            let m = top.momentum(s0.omega);
+            let g = s0.q.up_in_body();
+            let q = s0.q.0;
+            let y0 = (
+                [q[0], q[1], q[2], q[3], m[0], m[1], m[2], g[0], g[1], g[2]],
+                0.0,
+            );
+            let decode = |y: &([f64; 10], f64)| RigidState {
+                q: Quat([y.0[0], y.0[1], y.0[2], y.0[3]]).normalized(),
+                omega: top.omega([y.0[4], y.0[5], y.0[6]]),
+            };
+            if info.name == "midpoint" {
+                run_fixed(&Midpoint::<_, 10> { sys: &sys }, y0, settings, decode, 0)
+            } else {
+                run_fixed(&Gauss4::<_, 10> { sys: &sys }, y0, settings, decode, 0)
+            }
+        }
+        other => Err(KreiselError::invalid(
+            "method",
+            f64::NAN,
+            format!("{other:?} is not a fixed-step method"),
+        )),
+    }
+}
+
+/// Diagnostics of a simulated motion, as columns.
+#[derive(Debug, Clone, Default)]
+pub struct Columns {
+    /// Euler angles, phi and psi unwrapped.
+    pub theta: Vec<f64>,
+    /// Precession angle (unwrapped).
+    pub phi: Vec<f64>,
+    /// Spin angle (unwrapped).
+    pub psi: Vec<f64>,
+    /// Energy (J).
+    pub energy: Vec<f64>,
+    /// Vertical angular momentum (kg m^2/s).
+    pub mz: Vec<f64>,
+    /// Axial angular momentum where it is an integral.
+    pub m3: Option<Vec<f64>>,
+    /// Kovalevskaya's integral where it is one.
+    pub kovalevskaya: Option<Vec<f64>>,
+}
+
+/// Computes the diagnostics of every state.
+pub fn columns(top: &HeavyTop, states: &[RigidState]) -> Columns {
+    let n = states.len();
+    let mut c = Columns {
+        theta: Vec::with_capacity(n),
+        phi: Vec::with_capacity(n),
+        psi: Vec::with_capacity(n),
+        energy: Vec::with_capacity(n),
+        mz: Vec::with_capacity(n),
+        m3: states
+            .first()
+            .and_then(|s| top.m3(s))
+            .map(|_| Vec::with_capacity(n)),
+        kovalevskaya: states
+            .first()
+            .and_then(|s| top.kovalevskaya(s))
+            .map(|_| Vec::with_capacity(n)),
+    };
+    let (mut last_phi, mut last_psi) = (0.0, 0.0);
+    for (i, s) in states.iter().enumerate() {
+        let (phi, theta, psi) = euler_from_quaternion(s.q);
+        let (phi, psi) = if i == 0 {
+            (phi, psi)
+        } else {
+            (unwrap(last_phi, phi), unwrap(last_psi, psi))
+        };
+        last_phi = phi;
+        last_psi = psi;
+        c.theta.push(theta);
+        c.phi.push(phi);
+        c.psi.push(psi);
+        c.energy.push(top.energy(s));
+        c.mz.push(top.mz(s));
+        if let Some(v) = c.m3.as_mut() {
+            v.push(top.m3(s).unwrap_or(f64::NAN));
+        }
+        if let Some(v) = c.kovalevskaya.as_mut() {
+            v.push(top.kovalevskaya(s).unwrap_or(f64::NAN));
+        }
+    }
+    c
+}
+
+/// The representative of `angle` (mod 2 pi) nearest to `last`.
+fn unwrap(last: f64, angle: f64) -> f64 {
+    let tau = std::f64::consts::TAU;
+    angle + tau * ((last - angle) / tau).round()
+}
+
+#[doc(hidden)]
+pub fn _pack(s: &RigidState) -> [f64; 7] {
+    pack7(s)
+}
+
+#[doc(hidden)]
+pub fn _unpack(y: &[f64; 7]) -> RigidState {
+    unpack7(y)
+}

@@ -1,0 +1,160 @@
+"""Heavy tops: any rigid body on a fixed frictionless pivot."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from . import _core
+from ._errors import ParameterError
+from ._state import EulerState
+from ._validate import real
+
+
+@dataclass(frozen=True)
+class RigidState:
+    """Orientation and angular velocity of a rigid body.
+
+    Attributes
+    ----------
+    quaternion : ndarray, shape (4,)
+        Unit quaternion (w, x, y, z), scalar first, rotating body-frame vectors into the
+        space frame.
+    omega : ndarray, shape (3,)
+        Angular velocity in the body frame (rad/s).
+    """
+
+    quaternion: np.ndarray = field(repr=False)
+    omega: np.ndarray = field(repr=False)
+
+    def __repr__(self) -> str:
+        q = ", ".join(f"{x:.10g}" for x in self.quaternion)
+        w = ", ".join(f"{x:.10g}" for x in self.omega)
+        return f"RigidState(quaternion=[{q}], omega=[{w}])"
+
+    def __eq__(self, other) -> bool:
+        return (
+            isinstance(other, RigidState)
+            and np.array_equal(self.quaternion, other.quaternion)
+            and np.array_equal(self.omega, other.omega)
+        )
+
+    def __hash__(self) -> int:
+        return hash((tuple(self.quaternion), tuple(self.omega)))
+
+
+def _vector(name: str, value, n: int) -> list[float]:
+    try:
+        arr = np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise ParameterError(f"{name} = {value!r} is not allowed: it must be {n} numbers") from None
+    if arr.shape != (n,):
+        raise ParameterError(
+            f"{name} has shape {arr.shape}, which is not allowed: it must be {n} numbers"
+        )
+    return [real(f"{name}[{i}]", x) for i, x in enumerate(arr)]
+
+
+def euler_state(theta, phi, psi, theta_dot, phi_dot, psi_dot) -> EulerState:
+    """A validated EulerState."""
+    s = EulerState(
+        theta=real("theta", theta),
+        phi=real("phi", phi),
+        psi=real("psi", psi),
+        theta_dot=real("theta_dot", theta_dot),
+        phi_dot=real("phi_dot", phi_dot),
+        psi_dot=real("psi_dot", psi_dot),
+    )
+    _core.check_euler_state(s.as_tuple())
+    return s
+
+
+def rigid_state(state) -> RigidState:
+    """The RigidState of an EulerState or RigidState."""
+    if isinstance(state, RigidState):
+        return state
+    if isinstance(state, EulerState):
+        q, w = _core.rigid_from_euler(*state.as_tuple())
+        return RigidState(np.array(q), np.array(w))
+    raise TypeError(
+        f"state must be an EulerState or RigidState (from top.state(...) or "
+        f"top.state_from_quaternion(...)), not {type(state).__name__}"
+    )
+
+
+class _Rigid:
+    """What every top on a pivot shares: states and invariants through the native top."""
+
+    __slots__ = ()
+
+    def state(self, theta, phi=0.0, psi=0.0, theta_dot=0.0, phi_dot=0.0, psi_dot=0.0):
+        """A state in Euler angles (z-x-z, rad) and their rates (rad/s); theta in [0, pi]."""
+        return euler_state(theta, phi, psi, theta_dot, phi_dot, psi_dot)
+
+    def state_from_quaternion(self, q, omega) -> RigidState:
+        """A state from a quaternion (w, x, y, z; normalised here; not zero) and the body
+        angular velocity ``omega`` (rad/s, shape (3,))."""
+        qq, ww = self._heavy_native().check_rigid(_vector("q", q, 4), _vector("omega", omega, 3))
+        return RigidState(np.array(qq), np.array(ww))
+
+    def invariants(self, state) -> dict:
+        """``{"energy", "Mz"}`` and, where they are integrals, ``"M3"`` and
+        ``"kovalevskaya"``, of a state."""
+        s = rigid_state(state)
+        return dict(self._heavy_native().invariants(list(s.quaternion), list(s.omega)))
+
+
+class HeavyTop(_Rigid):
+    """A rigid body on a fixed frictionless pivot under uniform gravity.
+
+    Parameters
+    ----------
+    I1, I2, I3 : float
+        Principal moments of inertia about the pivot (kg m^2), obeying the triangle
+        inequality and the parallel-axis theorem.
+    m : float
+        Mass (kg), > 0.
+    com : sequence of 3 floats
+        Centre of mass in the body frame, measured from the pivot (m).
+    g : float
+        Gravitational acceleration (m/s^2), >= 0.
+
+    ``kind`` tells the integrable cases: ``"euler"`` (no torque), ``"lagrange"`` (I1 == I2,
+    centre of mass on the 3-axis), ``"kovalevskaya"`` (I1 == I2 == 2 I3, centre of mass in the
+    equatorial plane), else ``"general"`` (generically chaotic).
+    Source: the project's PHYSICS notes, section 2.
+    """
+
+    __slots__ = ("_I", "_m", "_com", "_g", "_native")
+
+    def __init__(self, I1, I2, I3, m, com, g=9.81):
+        inertia = [real("I1", I1), real("I2", I2), real("I3", I3)]
+        mass, grav = real("m", m), real("g", g)
+        c = _vector("com", com, 3)
+        self._native = _core.HeavyTop(*inertia, mass, c, grav)
+        self._I, self._m, self._com, self._g = tuple(inertia), mass, tuple(c), grav
+
+    def _heavy_native(self):
+        return self._native
+
+    I1 = property(lambda self: self._I[0], doc="Moment about body axis 1 (kg m^2).")
+    I2 = property(lambda self: self._I[1], doc="Moment about body axis 2 (kg m^2).")
+    I3 = property(lambda self: self._I[2], doc="Moment about body axis 3 (kg m^2).")
+    m = property(lambda self: self._m, doc="Mass (kg).")
+    com = property(lambda self: np.array(self._com), doc="Centre of mass, body frame (m).")
+    g = property(lambda self: self._g, doc="Gravitational acceleration (m/s^2).")
+    kind = property(lambda self: self._native.kind, doc="The integrable case, or 'general'.")
+
+    def __repr__(self) -> str:
+        c = ", ".join(repr(x) for x in self._com)
+        return (
+            f"HeavyTop(I1={self._I[0]!r}, I2={self._I[1]!r}, I3={self._I[2]!r}, "
+            f"m={self._m!r}, com=[{c}], g={self._g!r})"
+        )
+
+    def __eq__(self, other) -> bool:
+        return isinstance(other, HeavyTop) and repr(self) == repr(other)
+
+    def __hash__(self) -> int:
+        return hash(repr(self))

@@ -38,7 +38,10 @@ test-python: $(EXT)
 	$(PY) -m pytest -q
 
 bench: $(EXT)
+	$(PY) -m pip install --quiet -r requirements-bench.txt
 	$(PY) benchmarks/bench_exact.py
+	$(PY) benchmarks/bench_simulate.py
+	$(PY) benchmarks/bench_mujoco.py
 
 lint: $(DEPS)
 	cargo clippy --all-targets -- -D warnings

@@ -13,6 +13,7 @@ pub mod integrate;
 pub mod models;
 pub mod rotation;
 pub mod simulate;
+pub mod simulate_play;
 pub mod special;
 pub mod stability;
 

@@ -160,26 +160,25 @@ impl OdeSystem<7> for QOmega<'_> {
     }
 }
 
-/// The heavy top in y = (q, M, Gamma), whose quadratic invariants (|q|, |Gamma|, M.Gamma and
-/// the energy) the implicit Gauss methods keep.
-pub struct QMGamma<'a>(pub &'a HeavyTop);
+/// The heavy top in y = (q, M). With Gamma = q* ez q quadratic in q, the energy
+/// `M.I^-1 M / 2 + m g c.Gamma(q)` and `|q|^2` are quadratic invariants, which the implicit
+/// Gauss methods keep exactly (Mz = M.Gamma is cubic: kept to the method's accuracy).
+pub struct QM<'a>(pub &'a HeavyTop);
 
-impl OdeSystem<10> for QMGamma<'_> {
-    fn rhs(&self, _t: f64, y: &[f64; 10], dy: &mut [f64; 10]) {
+impl OdeSystem<7> for QM<'_> {
+    fn rhs(&self, _t: f64, y: &[f64; 7], dy: &mut [f64; 7]) {
         let top = self.0;
+        let q = Quat([y[0], y[1], y[2], y[3]]);
         let m = [y[4], y[5], y[6]];
-        let gm = [y[7], y[8], y[9]];
         let w = top.omega(m);
-        let dq = Quat([y[0], y[1], y[2], y[3]]).hamilton(Quat([0.0, w[0], w[1], w[2]]));
+        let dq = q.hamilton(Quat([0.0, w[0], w[1], w[2]]));
         let dm = cross(m, w);
-        let tq = cross(gm, top.mgc());
-        let dg = cross(gm, w);
+        let tq = cross(q.up_in_body(), top.mgc());
         for (d, x) in dy.iter_mut().zip(dq.0) {
             *d = 0.5 * x;
         }
         for i in 0..3 {
             dy[4 + i] = dm[i] + tq[i];
-            dy[7 + i] = dg[i];
         }
     }
 }
@@ -485,22 +484,18 @@ pub fn simulate_fixed(top: &HeavyTop, s0: &RigidState, settings: &Settings) -> R
             run_fixed(&sch, y0, settings, |y| sch.decode(y), 0)
         }
         "midpoint" | "gauss4" => {
-            let sys = QMGamma(top);
+            let sys = QM(top);
             let m = top.momentum(s0.omega);
-            let g = s0.q.up_in_body();
             let q = s0.q.0;
-            let y0 = (
-                [q[0], q[1], q[2], q[3], m[0], m[1], m[2], g[0], g[1], g[2]],
-                0.0,
-            );
-            let decode = |y: &([f64; 10], f64)| RigidState {
+            let y0 = ([q[0], q[1], q[2], q[3], m[0], m[1], m[2]], 0.0);
+            let decode = |y: &([f64; 7], f64)| RigidState {
                 q: Quat([y.0[0], y.0[1], y.0[2], y.0[3]]).normalized(),
                 omega: top.omega([y.0[4], y.0[5], y.0[6]]),
             };
             if info.name == "midpoint" {
-                run_fixed(&Midpoint::<_, 10> { sys: &sys }, y0, settings, decode, 0)
+                run_fixed(&Midpoint::<_, 7> { sys: &sys }, y0, settings, decode, 0)
             } else {
-                run_fixed(&Gauss4::<_, 10> { sys: &sys }, y0, settings, decode, 0)
+                run_fixed(&Gauss4::<_, 7> { sys: &sys }, y0, settings, decode, 0)
             }
         }
         other => Err(KreiselError::invalid(

@@ -2,3 +2,4 @@
 
 pub mod heavy_top;
 pub mod lagrange;
+pub mod play_top;

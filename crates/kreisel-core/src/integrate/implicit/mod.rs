@@ -2,8 +2,8 @@
 //! 2-stage Gauss-Legendre method (order 4), for any [`OdeSystem`].
 //!
 //! Both keep every quadratic invariant of the system exactly (up to the solver tolerance);
-//! for a heavy top written in (q, M, Gamma) these are |q|, |Gamma|, M.Gamma and the energy
-//! (E. Hairer, C. Lubich, G. Wanner, Geometric Numerical Integration, IV.2). The stage
+//! for a heavy top written in (q, M) these are |q| and the energy, since Gamma = q* ez q is
+//! quadratic in q (E. Hairer, C. Lubich, G. Wanner, Geometric Numerical Integration, IV.2). The stage
 //! equations are solved by fixed-point iteration to round-off; a step too large for it to
 //! converge is reported, not silently accepted.
 

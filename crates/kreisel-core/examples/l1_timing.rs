@@ -1,0 +1,38 @@
+//! Times benchmark case L1 in the core alone: integration, then the diagnostics columns.
+use kreisel_core::models::heavy_top::HeavyTop;
+use kreisel_core::models::heavy_top::RigidState;
+use kreisel_core::models::lagrange::LagrangeTop;
+use kreisel_core::rotation::{omega_body_from_euler, quaternion_from_euler};
+use kreisel_core::simulate::{columns, simulate, Settings};
+use std::time::Instant;
+fn main() {
+    let top = HeavyTop::from_lagrange(&LagrangeTop::new(1.0, 0.5, 1.0, 1.0, 1.0).unwrap());
+    let s0 = RigidState {
+        q: quaternion_from_euler(0.0, 1.0, 0.0),
+        omega: omega_body_from_euler(1.0, 0.0, 0.3, 0.7, 9.0),
+    };
+    let st = Settings {
+        method: "dop853".into(),
+        t_end: 100.0,
+        rtol: 1e-10,
+        atol: 1e-12,
+        dt: None,
+        t_eval: None,
+    };
+    let (mut a, mut b) = (f64::MAX, f64::MAX);
+    let reps: usize = std::env::var("REPS")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(20);
+    for _ in 0..reps {
+        let t0 = Instant::now();
+        let out = simulate(&top, &s0, &st, &mut [], false, &mut |_| true).unwrap();
+        let t1 = Instant::now();
+        let c = columns(&top, &out.states);
+        let t2 = Instant::now();
+        a = a.min((t1 - t0).as_secs_f64());
+        b = b.min((t2 - t1).as_secs_f64());
+        assert!(c.theta.len() == out.t.len());
+    }
+    println!("integrate {:.3} ms, columns {:.3} ms", a * 1e3, b * 1e3);
+}

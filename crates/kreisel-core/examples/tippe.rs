@@ -1,0 +1,53 @@
+use kreisel_core::models::play_top::{Friction, PlayTop, DIM};
+use kreisel_core::rotation::{omega_body_from_euler, quaternion_from_euler};
+use kreisel_core::simulate_play::{simulate_play, PlaySettings};
+fn main() {
+    let (m, rho, s) = (0.02, 0.02, 0.006);
+    let c = 0.4 * m * rho * rho;
+    let args: Vec<String> = std::env::args().collect();
+    let fr = if args.len() > 1 && args[1] == "coulomb" {
+        Friction::Coulomb { mu: 0.3 }
+    } else {
+        Friction::Viscous { mu: 1.0 }
+    };
+    let top = PlayTop::new(m, 0.8 * c, c, s, rho, 9.81, fr, 0.0, 0.0, 0.0, 0.0).unwrap();
+    let th = std::f64::consts::PI - 0.1;
+    let q = quaternion_from_euler(0.0, th, 0.0);
+    let w = omega_body_from_euler(th, 0.0, 0.0, 0.0, 150.0);
+    let mut y = [0.0; DIM];
+    y[..4].copy_from_slice(&q.0);
+    y[4..7].copy_from_slice(&w);
+    y[9] = rho + s * th.cos();
+    let st = PlaySettings {
+        t_end: 12.0,
+        rtol: 1e-9,
+        atol: 1e-12,
+        t_eval: Some((0..=24).map(|i| i as f64 * 0.5).collect()),
+        inversion_level: Some(0.9),
+        stop_at_inversion: false,
+        stop_at_rest: false,
+    };
+    let t0 = std::time::Instant::now();
+    let out = simulate_play(&top, y, &st).unwrap();
+    println!(
+        "time {:?} steps {} events {:?}",
+        t0.elapsed(),
+        out.steps,
+        &out.events[..out.events.len().min(12)]
+    );
+    let j0 = top.jellett(&out.y[0]);
+    for (t, (yy, md)) in out.t.iter().zip(out.y.iter().zip(&out.mode)) {
+        let (a, b, cc) = top.energy_parts(yy);
+        println!(
+            "{t:5.2} u={:+.5} J rel={:+.2e} E+D={:.12e} mode={:?} N={:.4e}",
+            top.kin(yy).u,
+            (top.jellett(yy) - j0) / j0,
+            a + b + cc + yy[13],
+            md,
+            {
+                let mut dy = [0.0; DIM];
+                top.dynamics(*md, yy, out.dir[0], &mut dy).n
+            }
+        );
+    }
+}

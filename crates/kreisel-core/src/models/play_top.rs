@@ -1,0 +1,551 @@
+//! The play top: a symmetric top with a spherical tip on a horizontal plane, with friction.
+//!
+//! Conventions of the PHYSICS notes, section 3: sphere radius `rho`, distance `s` from the
+//! sphere centre Z to the centre of mass G along the figure axis e3 (pointing from Z to G),
+//! moments `A` (equatorial) and `C` (axial) about G, `u = e3 . ez` (u = 1 upright, G above Z;
+//! u = -1 hanging). The contact point is `T = Z - rho ez`; `a = GT = -s e3 - rho ez`.
+//!
+//! The state is `y = (q, omega, r, v, w)`: orientation (body 3-axis = e3), body angular
+//! velocity, position and velocity of G (space frame), and the energy dissipated so far.
+//! Three modes: sliding contact (the normal force N from the contact constraint, the
+//! friction law giving the tangential force), rolling contact (the whole contact force
+//! from the rolling constraint, while it stays in the Coulomb cone), and free flight.
+//! Newton-Euler about G: `m dv/dt = F - m g ez`, `dL/dt = a x F` (+ optional resistance
+//! torques), `L = A omega + (C - A)(omega . e3) e3`.
+
+use crate::error::{finite, non_negative, positive, KreiselError, Result};
+use crate::rotation::{cross, dot, Quat};
+
+/// Length of the play-top state vector.
+pub const DIM: usize = 14;
+
+/// The tangential force law at the contact.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Friction {
+    /// Coulomb: |F_t| = mu N against the slip while slipping; rolling without slip while
+    /// the needed force stays within the cone |F_t| <= mu N.
+    Coulomb {
+        /// Friction coefficient.
+        mu: f64,
+    },
+    /// Viscous: F_t = -mu N v_T (mu in s/m).
+    Viscous {
+        /// Coefficient (s/m).
+        mu: f64,
+    },
+    /// No tangential force.
+    Frictionless,
+}
+
+/// Contact mode.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Mode {
+    /// Sliding contact.
+    Slip,
+    /// Rolling contact (no slip).
+    Roll,
+    /// Free flight.
+    Flight,
+}
+
+impl Mode {
+    /// The public name.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Mode::Slip => "slip",
+            Mode::Roll => "roll",
+            Mode::Flight => "flight",
+        }
+    }
+    /// Small integer code (0 slip, 1 roll, 2 flight).
+    pub fn code(&self) -> u8 {
+        match self {
+            Mode::Slip => 0,
+            Mode::Roll => 1,
+            Mode::Flight => 2,
+        }
+    }
+}
+
+/// Parameters of a play top.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PlayTop {
+    /// Mass (kg).
+    pub m: f64,
+    /// Equatorial moment about G (kg m^2).
+    pub a: f64,
+    /// Axial moment about G (kg m^2).
+    pub c: f64,
+    /// Distance from the sphere centre to G along e3 (m).
+    pub s: f64,
+    /// Radius of the spherical tip (m).
+    pub rho: f64,
+    /// Gravitational acceleration (m/s^2).
+    pub g: f64,
+    /// Tangential force law.
+    pub friction: Friction,
+    /// Coefficient of restitution of impacts, in [0, 1].
+    pub restitution: f64,
+    /// Rolling resistance: a torque -rolling N omega_h/|omega_h| (m).
+    pub rolling: f64,
+    /// Drilling resistance: a torque -drilling N sign(omega_z) ez (m).
+    pub drilling: f64,
+    /// Air resistance: a torque -air omega (N m s).
+    pub air: f64,
+}
+
+/// Contact force and its parts at one state in one mode.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Contact {
+    /// Normal force (N); 0 in flight.
+    pub n: f64,
+    /// Tangential force (space frame, N).
+    pub ft: [f64; 3],
+}
+
+/// Kinematic quantities of a state.
+#[derive(Debug, Clone, Copy)]
+pub struct Kin {
+    /// Orientation.
+    pub q: Quat,
+    /// Body angular velocity.
+    pub w: [f64; 3],
+    /// Upward vertical in the body frame.
+    pub gamma: [f64; 3],
+    /// G to T in the body frame.
+    pub a_b: [f64; 3],
+    /// G to T in space.
+    pub a_s: [f64; 3],
+    /// Velocity of G.
+    pub v: [f64; 3],
+    /// Velocity of the material point at T (the slip velocity while in contact).
+    pub v_t: [f64; 3],
+    /// u = cos(theta).
+    pub u: f64,
+}
+
+const EZ: [f64; 3] = [0.0, 0.0, 1.0];
+
+fn add(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
+}
+fn scale(k: f64, a: [f64; 3]) -> [f64; 3] {
+    [k * a[0], k * a[1], k * a[2]]
+}
+
+/// Solves a 3x3 linear system by Cramer's rule (the matrices here are well conditioned:
+/// the contact's inverse effective mass).
+fn solve3(m: [[f64; 3]; 3], b: [f64; 3]) -> [f64; 3] {
+    let det = |m: [[f64; 3]; 3]| {
+        m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
+            - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+            + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
+    };
+    let d = det(m);
+    let mut x = [0.0; 3];
+    for (j, xj) in x.iter_mut().enumerate() {
+        let mut mj = m;
+        for i in 0..3 {
+            mj[i][j] = b[i];
+        }
+        *xj = det(mj) / d;
+    }
+    x
+}
+
+impl PlayTop {
+    /// Validates and builds a play top.
+    #[allow(clippy::too_many_arguments)]
+    pub fn new(
+        m: f64,
+        a: f64,
+        c: f64,
+        s: f64,
+        rho: f64,
+        g: f64,
+        friction: Friction,
+        restitution: f64,
+        rolling: f64,
+        drilling: f64,
+        air: f64,
+    ) -> Result<Self> {
+        positive("m", m)?;
+        positive("A", a)?;
+        positive("C", c)?;
+        non_negative("s", s)?;
+        positive("rho", rho)?;
+        non_negative("g", g)?;
+        if c > 2.0 * a * (1.0 + 1e-12) {
+            return Err(KreiselError::invalid(
+                "C",
+                c,
+                format!("no rigid body has C > 2*A = {} (0 < C/A < 2)", 2.0 * a),
+            ));
+        }
+        match friction {
+            Friction::Coulomb { mu } | Friction::Viscous { mu } => {
+                non_negative("mu", mu)?;
+            }
+            Friction::Frictionless => {}
+        }
+        finite("restitution", restitution)?;
+        if !(0.0..=1.0).contains(&restitution) {
+            return Err(KreiselError::invalid(
+                "restitution",
+                restitution,
+                "it must lie in [0, 1]",
+            ));
+        }
+        non_negative("rolling_resistance", rolling)?;
+        non_negative("drilling_resistance", drilling)?;
+        non_negative("air_drag", air)?;
+        Ok(PlayTop {
+            m,
+            a,
+            c,
+            s,
+            rho,
+            g,
+            friction,
+            restitution,
+            rolling,
+            drilling,
+            air,
+        })
+    }
+
+    /// alpha = s / rho.
+    pub fn alpha(&self) -> f64 {
+        self.s / self.rho
+    }
+    /// gamma = A / C.
+    pub fn gamma(&self) -> f64 {
+        self.a / self.c
+    }
+    /// J_beta = rho sqrt(C m g s).
+    pub fn j_beta(&self) -> f64 {
+        self.rho * (self.c * self.m * self.g * self.s).sqrt()
+    }
+
+    #[inline(always)]
+    fn inertia(&self) -> [f64; 3] {
+        [self.a, self.a, self.c]
+    }
+
+    #[inline(always)]
+    fn inv_inertia(&self, x: [f64; 3]) -> [f64; 3] {
+        [x[0] / self.a, x[1] / self.a, x[2] / self.c]
+    }
+
+    /// Body angular momentum about G.
+    #[inline(always)]
+    pub fn momentum(&self, w: [f64; 3]) -> [f64; 3] {
+        [self.a * w[0], self.a * w[1], self.c * w[2]]
+    }
+
+    /// Kinematics of a state vector.
+    #[inline(always)]
+    pub fn kin(&self, y: &[f64; DIM]) -> Kin {
+        let q = Quat([y[0], y[1], y[2], y[3]]);
+        let w = [y[4], y[5], y[6]];
+        let gamma = q.up_in_body();
+        let a_b = [
+            -self.rho * gamma[0],
+            -self.rho * gamma[1],
+            -self.s - self.rho * gamma[2],
+        ];
+        let a_s = add(
+            scale(-self.s, q.rotate([0.0, 0.0, 1.0])),
+            [0.0, 0.0, -self.rho],
+        );
+        let v = [y[10], y[11], y[12]];
+        let v_t = add(v, q.rotate(cross(w, a_b)));
+        Kin {
+            q,
+            w,
+            gamma,
+            a_b,
+            a_s,
+            v,
+            v_t,
+            u: gamma[2],
+        }
+    }
+
+    /// Height of the lowest point of the sphere above the floor (m).
+    #[inline(always)]
+    pub fn height(&self, y: &[f64; DIM]) -> f64 {
+        let q = Quat([y[0], y[1], y[2], y[3]]);
+        y[9] - self.s * q.up_in_body()[2] - self.rho
+    }
+
+    /// Resistance torques (body frame): the part proportional to N (per unit N) and the
+    /// part that is not.
+    #[inline(always)]
+    fn resistance(&self, k: &Kin) -> ([f64; 3], [f64; 3]) {
+        let mut per_n = [0.0; 3];
+        if self.rolling > 0.0 || self.drilling > 0.0 {
+            // Vertical and horizontal parts of omega, in the body frame.
+            let wz = dot(k.w, k.gamma);
+            let wh = add(k.w, scale(-wz, k.gamma));
+            let h = dot(wh, wh).sqrt();
+            // Regularised near zero so the torque vanishes smoothly with the motion.
+            let reg = 1e-9;
+            per_n = add(
+                scale(-self.rolling / (h + reg), wh),
+                scale(-self.drilling * wz / (wz.abs() + reg), k.gamma),
+            );
+        }
+        (per_n, scale(-self.air, k.w))
+    }
+
+    /// The tangential force per unit N while slipping (space frame).
+    #[inline(always)]
+    fn slip_force_per_n(&self, k: &Kin, dir: [f64; 3]) -> [f64; 3] {
+        match self.friction {
+            Friction::Frictionless => [0.0; 3],
+            Friction::Viscous { mu } => [-mu * k.v_t[0], -mu * k.v_t[1], 0.0],
+            Friction::Coulomb { mu } => {
+                let sp = (k.v_t[0] * k.v_t[0] + k.v_t[1] * k.v_t[1]).sqrt();
+                if sp > 0.0 {
+                    [-mu * k.v_t[0] / sp, -mu * k.v_t[1] / sp, 0.0]
+                } else {
+                    // At (numerically) zero slip the direction is the one the mode began
+                    // with: the friction opposes the slip that is starting.
+                    [-mu * dir[0], -mu * dir[1], 0.0]
+                }
+            }
+        }
+    }
+
+    /// A speed scale of the motion: rho |omega| + |v| + sqrt(g rho).
+    pub fn slip_scale(&self, k: &Kin) -> f64 {
+        self.rho * dot(k.w, k.w).sqrt() + dot(k.v, k.v).sqrt() + (self.g * self.rho).sqrt()
+    }
+
+    /// Contact force and state derivative in a mode. `dir` is the slip direction used when
+    /// the slip speed is zero (Coulomb friction only).
+    pub fn dynamics(
+        &self,
+        mode: Mode,
+        y: &[f64; DIM],
+        dir: [f64; 3],
+        dy: &mut [f64; DIM],
+    ) -> Contact {
+        let k = self.kin(y);
+        let inertia = self.inertia();
+        let iw = [
+            inertia[0] * k.w[0],
+            inertia[1] * k.w[1],
+            inertia[2] * k.w[2],
+        ];
+        let gyro = cross(k.w, iw); // omega x I omega
+        let (res_n, res_0) = self.resistance(&k);
+        let free_torque = [res_0[0] - gyro[0], res_0[1] - gyro[1], res_0[2] - gyro[2]];
+        let (contact, wdot, vdot) = match mode {
+            Mode::Flight => {
+                let wdot = self.inv_inertia(free_torque);
+                (Contact::default(), wdot, [0.0, 0.0, -self.g])
+            }
+            Mode::Slip => {
+                // F = N f with f = ez + (tangential force per unit N); N from the constraint
+                // that T stays on the floor: N/m - g - s d2u/dt2 = 0, affine in N.
+                let f_s = add(EZ, self.slip_force_per_n(&k, dir));
+                let f_b = k.q.rotate_inv(f_s);
+                let t1 = add(cross(k.a_b, f_b), res_n);
+                let b1 = self.inv_inertia(t1);
+                let b0 = self.inv_inertia(free_torque);
+                let gdot = cross(k.gamma, k.w);
+                let k0 = cross(gdot, k.w)[2] + cross(k.gamma, b0)[2];
+                let k1 = cross(k.gamma, b1)[2];
+                let n = (self.g + self.s * k0) / (1.0 / self.m - self.s * k1);
+                let wdot = add(b0, scale(n, b1));
+                let vdot = [
+                    n * f_s[0] / self.m,
+                    n * f_s[1] / self.m,
+                    n * f_s[2] / self.m - self.g,
+                ];
+                (
+                    Contact {
+                        n,
+                        ft: [n * (f_s[0]), n * (f_s[1]), 0.0],
+                    },
+                    wdot,
+                    vdot,
+                )
+            }
+            Mode::Roll => {
+                // The rolling constraint v_T = 0 differentiated (body frame):
+                // F/m - g Gamma + wdot x a - s omega x (omega x e3) = 0, with
+                // wdot = I^-1 (a x F + (F.Gamma) res_n + free_torque): linear in F.
+                let b0 = self.inv_inertia(free_torque);
+                let map = |f: [f64; 3]| {
+                    let t = add(cross(k.a_b, f), scale(dot(f, k.gamma), res_n));
+                    add(scale(1.0 / self.m, f), cross(self.inv_inertia(t), k.a_b))
+                };
+                let cols = [
+                    map([1.0, 0.0, 0.0]),
+                    map([0.0, 1.0, 0.0]),
+                    map([0.0, 0.0, 1.0]),
+                ];
+                let mat = [
+                    [cols[0][0], cols[1][0], cols[2][0]],
+                    [cols[0][1], cols[1][1], cols[2][1]],
+                    [cols[0][2], cols[1][2], cols[2][2]],
+                ];
+                let wxe3 = cross(k.w, [0.0, 0.0, 1.0]);
+                let rhs = add(
+                    add(scale(self.g, k.gamma), scale(-1.0, cross(b0, k.a_b))),
+                    scale(self.s, cross(k.w, wxe3)),
+                );
+                let f_b = solve3(mat, rhs);
+                let n = dot(f_b, k.gamma);
+                let f_s = k.q.rotate(f_b);
+                let t = add(cross(k.a_b, f_b), scale(n, res_n));
+                let wdot = add(self.inv_inertia(t), b0);
+                let vdot = [f_s[0] / self.m, f_s[1] / self.m, f_s[2] / self.m - self.g];
+                (
+                    Contact {
+                        n,
+                        ft: [f_s[0], f_s[1], 0.0],
+                    },
+                    wdot,
+                    vdot,
+                )
+            }
+        };
+        let dq = k.q.hamilton(Quat([0.0, k.w[0], k.w[1], k.w[2]]));
+        for (d, x) in dy.iter_mut().zip(dq.0) {
+            *d = 0.5 * x;
+        }
+        dy[4..7].copy_from_slice(&wdot);
+        dy[7..10].copy_from_slice(&k.v);
+        dy[10..13].copy_from_slice(&vdot);
+        // Dissipated power: minus the power of the tangential contact force at T and of the
+        // resistance torques.
+        let (res_n, res_0) = self.resistance(&k);
+        let p_friction = if mode == Mode::Slip {
+            dot(contact.ft, k.v_t)
+        } else {
+            0.0
+        };
+        let p_res = dot(add(scale(contact.n, res_n), res_0), k.w);
+        dy[13] = -(p_friction + p_res);
+        contact
+    }
+
+    /// Total energy: translation + rotation + potential (J).
+    pub fn energy_parts(&self, y: &[f64; DIM]) -> (f64, f64, f64) {
+        let w = [y[4], y[5], y[6]];
+        let v = [y[10], y[11], y[12]];
+        let iw = self.momentum(w);
+        (
+            0.5 * self.m * dot(v, v),
+            0.5 * dot(w, iw),
+            self.m * self.g * y[9],
+        )
+    }
+
+    /// Jellett's integral J = L . (s e3 + rho ez) (kg m^2/s).
+    pub fn jellett(&self, y: &[f64; DIM]) -> f64 {
+        let q = Quat([y[0], y[1], y[2], y[3]]);
+        let l = self.momentum([y[4], y[5], y[6]]);
+        self.s * l[2] + self.rho * dot(l, q.up_in_body())
+    }
+
+    /// Puts a contact state exactly on the constraint: height and vertical velocity of G
+    /// from the orientation (and in rolling, the whole velocity of G from the no-slip
+    /// condition). Normalises the quaternion.
+    pub fn project(&self, mode: Mode, y: &mut [f64; DIM]) {
+        let n = (y[0] * y[0] + y[1] * y[1] + y[2] * y[2] + y[3] * y[3]).sqrt();
+        for v in y.iter_mut().take(4) {
+            *v /= n;
+        }
+        if mode == Mode::Flight {
+            return;
+        }
+        let k = self.kin(y);
+        y[9] = self.rho + self.s * k.u;
+        if mode == Mode::Roll {
+            let v = scale(-1.0, k.q.rotate(cross(k.w, k.a_b)));
+            y[10..13].copy_from_slice(&v);
+        } else {
+            // d/dt (rho + s u) with du/dt = (Gamma x omega)_3.
+            y[12] = self.s * cross(k.gamma, k.w)[2];
+        }
+    }
+
+    /// The contact force rolling would need, and whether it lies in the Coulomb cone.
+    pub fn roll_admissible(&self, y: &[f64; DIM]) -> (bool, Contact) {
+        let mut dy = [0.0; DIM];
+        let c = self.dynamics(Mode::Roll, y, [0.0; 3], &mut dy);
+        let ok = match self.friction {
+            Friction::Coulomb { mu } => {
+                c.n >= 0.0 && (c.ft[0] * c.ft[0] + c.ft[1] * c.ft[1]).sqrt() <= mu * c.n
+            }
+            _ => false,
+        };
+        (ok, c)
+    }
+
+    /// The impact at touchdown with restitution and a Coulomb friction impulse: the impulse
+    /// that stops the slip of T (and reverses its normal velocity times the restitution)
+    /// if it lies in the friction cone, else a sliding impulse against the slip.
+    /// Returns the new state and whether the contact sticks (no slip after the impact).
+    pub fn impact(&self, y: &[f64; DIM]) -> ([f64; DIM], bool) {
+        let k = self.kin(y);
+        let vn = k.v_t[2];
+        let e = self.restitution;
+        // Velocity change of T per unit impulse P (space frame): P/m + (I^-1 (a x P)) x a.
+        let kmat = |p: [f64; 3]| {
+            let pb = k.q.rotate_inv(p);
+            let dw = self.inv_inertia(cross(k.a_b, pb));
+            add(scale(1.0 / self.m, p), k.q.rotate(cross(dw, k.a_b)))
+        };
+        let cols = [
+            kmat([1.0, 0.0, 0.0]),
+            kmat([0.0, 1.0, 0.0]),
+            kmat([0.0, 0.0, 1.0]),
+        ];
+        let mat = [
+            [cols[0][0], cols[1][0], cols[2][0]],
+            [cols[0][1], cols[1][1], cols[2][1]],
+            [cols[0][2], cols[1][2], cols[2][2]],
+        ];
+        let target = [-k.v_t[0], -k.v_t[1], -(1.0 + e) * vn];
+        let mut p = solve3(mat, target);
+        let mut sticks = true;
+        let mu = match self.friction {
+            Friction::Coulomb { mu } => mu,
+            Friction::Viscous { .. } | Friction::Frictionless => 0.0,
+        };
+        let pt = (p[0] * p[0] + p[1] * p[1]).sqrt();
+        if matches!(self.friction, Friction::Coulomb { .. }) && pt <= mu * p[2] {
+            // sticking impulse accepted
+        } else {
+            sticks = false;
+            let sp = (k.v_t[0] * k.v_t[0] + k.v_t[1] * k.v_t[1]).sqrt();
+            let dir = if sp > 0.0 {
+                [k.v_t[0] / sp, k.v_t[1] / sp, 0.0]
+            } else {
+                [0.0; 3]
+            };
+            let d = [-mu * dir[0], -mu * dir[1], 1.0];
+            let kd = kmat(d);
+            let pn = -(1.0 + e) * vn / kd[2];
+            p = scale(pn, d);
+        }
+        let pb = k.q.rotate_inv(p);
+        let dw = self.inv_inertia(cross(k.a_b, pb));
+        let mut out = *y;
+        for i in 0..3 {
+            out[4 + i] += dw[i];
+            out[10 + i] += p[i] / self.m;
+        }
+        // Kinetic energy lost in the impact is dissipated.
+        let (t0, r0, _) = self.energy_parts(y);
+        let (t1, r1, _) = self.energy_parts(&out);
+        out[13] += (t0 + r0) - (t1 + r1);
+        (out, sticks)
+    }
+}

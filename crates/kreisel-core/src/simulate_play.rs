@@ -1,0 +1,328 @@
+//! Simulation of the play top: a hybrid of smooth phases (slip, roll, flight), each
+//! integrated with DOP853 and ended by located events, joined by mode switches and impacts.
+//!
+//! Switches: slip -> roll when the slip speed falls to (numerically) zero and the rolling
+//! force lies in the Coulomb cone; roll -> slip when the rolling force leaves the cone
+//! (the slip then starts against the force that rolling would have needed); either contact
+//! mode -> flight when the normal force falls to zero; flight -> contact at touchdown,
+//! through an impact with restitution and a Coulomb friction impulse.
+
+use crate::error::{KreiselError, Result};
+use crate::integrate::{
+    Dense, Dop853, EventSpec, EveryStep, Locator, Observer, OdeSystem, SampleAt, WithEvents,
+};
+use crate::models::play_top::{Friction, Mode, PlayTop, DIM};
+use std::ops::ControlFlow;
+
+/// Settings of a play-top simulation.
+#[derive(Debug, Clone)]
+pub struct PlaySettings {
+    /// End time (s).
+    pub t_end: f64,
+    /// Relative tolerance.
+    pub rtol: f64,
+    /// Absolute tolerance.
+    pub atol: f64,
+    /// Output times (ascending, in [0, t_end]); None: every step.
+    pub t_eval: Option<Vec<f64>>,
+    /// u level whose upward crossing is reported as "inversion" (None: not watched).
+    pub inversion_level: Option<f64>,
+    /// Stop at the first inversion.
+    pub stop_at_inversion: bool,
+    /// Stop when the top comes to rest (kinetic energy below 1e-12 of its start).
+    pub stop_at_rest: bool,
+}
+
+/// A simulated play-top motion.
+#[derive(Debug, Clone, Default)]
+pub struct PlayOutput {
+    /// Times (s); an event time appears twice when the state jumps there (impact).
+    pub t: Vec<f64>,
+    /// States.
+    pub y: Vec<[f64; DIM]>,
+    /// Mode at each output.
+    pub mode: Vec<Mode>,
+    /// Slip direction in force at each output (for zero slip speed).
+    pub dir: Vec<[f64; 3]>,
+    /// Events: (name, time).
+    pub events: Vec<(&'static str, f64)>,
+    /// Accepted steps.
+    pub steps: u64,
+    /// Rejected steps.
+    pub rejected: u64,
+    /// Right-hand-side evaluations.
+    pub rhs_evals: u64,
+}
+
+struct ModeSystem<'a> {
+    top: &'a PlayTop,
+    mode: Mode,
+    dir: [f64; 3],
+}
+
+impl OdeSystem<DIM> for ModeSystem<'_> {
+    #[inline(always)]
+    fn rhs(&self, _t: f64, y: &[f64; DIM], dy: &mut [f64; DIM]) {
+        self.top.dynamics(self.mode, y, self.dir, dy);
+    }
+    fn project(&self, y: &mut [f64; DIM]) {
+        self.top.project(self.mode, y);
+    }
+}
+
+/// The mode a state starts in.
+pub fn initial_mode(top: &PlayTop, y: &[f64; DIM]) -> Mode {
+    if top.height(y) > 1e-12 * top.rho {
+        return Mode::Flight;
+    }
+    let k = top.kin(y);
+    let sp = (k.v_t[0] * k.v_t[0] + k.v_t[1] * k.v_t[1]).sqrt();
+    let mut dy = [0.0; DIM];
+    let slip_n = top.dynamics(Mode::Slip, y, [0.0; 3], &mut dy).n;
+    if slip_n < 0.0 {
+        return Mode::Flight;
+    }
+    if sp <= 1e-12 * top.slip_scale(&k) && top.roll_admissible(y).0 {
+        Mode::Roll
+    } else {
+        Mode::Slip
+    }
+}
+
+struct Recorder<'a> {
+    every: Option<EveryStep<DIM>>,
+    sample: Option<SampleAt<'a, DIM>>,
+}
+
+impl Observer<DIM> for Recorder<'_> {
+    fn start(&mut self, t0: f64, y0: &[f64; DIM]) {
+        if let Some(e) = self.every.as_mut() {
+            e.start(t0, y0);
+        }
+        if let Some(s) = self.sample.as_mut() {
+            s.start(t0, y0);
+        }
+    }
+    fn step(&mut self, t: f64, y: &[f64; DIM], dense: &dyn Dense<DIM>) -> ControlFlow<()> {
+        if let Some(e) = self.every.as_mut() {
+            let _ = e.step(t, y, dense);
+        }
+        if let Some(s) = self.sample.as_mut() {
+            let _ = s.step(t, y, dense);
+        }
+        ControlFlow::Continue(())
+    }
+}
+
+const MAX_SWITCHES: usize = 200_000;
+
+/// Simulates a play top from `y0` (mode chosen from the state).
+pub fn simulate_play(top: &PlayTop, y0: [f64; DIM], settings: &PlaySettings) -> Result<PlayOutput> {
+    let t_end = settings.t_end;
+    let integrator = Dop853 {
+        rtol: settings.rtol,
+        atol: settings.atol,
+        h_init: None,
+        h_max: f64::INFINITY,
+        max_steps: 100_000_000,
+    };
+    let mut out = PlayOutput::default();
+    let mut y = y0;
+    let mut mode = initial_mode(top, &y);
+    top.project(mode, &mut y);
+    let mut dir = [0.0; 3];
+    let mut t = 0.0;
+    let mut next_sample = 0usize;
+    let mut inverted = false;
+    let mu = match top.friction {
+        Friction::Coulomb { mu } => Some(mu),
+        _ => None,
+    };
+    let ke0 = {
+        let (tr, rot, _) = top.energy_parts(&y);
+        tr + rot
+    };
+    let mut first = true;
+    loop {
+        let sys = ModeSystem { top, mode, dir };
+        let eps = 1e-10 * top.slip_scale(&top.kin(&y));
+        // Mode events (terminal) then watched ones.
+        let mut g_liftoff = |_t: f64, y: &[f64; DIM]| {
+            let mut dy = [0.0; DIM];
+            top.dynamics(mode, y, dir, &mut dy).n
+        };
+        let mut g_stop_slip = |_t: f64, y: &[f64; DIM]| {
+            let k = top.kin(y);
+            (k.v_t[0] * k.v_t[0] + k.v_t[1] * k.v_t[1]).sqrt() - eps
+        };
+        let mut g_cone = |_t: f64, y: &[f64; DIM]| {
+            let mut dy = [0.0; DIM];
+            let c = top.dynamics(Mode::Roll, y, dir, &mut dy);
+            mu.unwrap_or(0.0) * c.n - (c.ft[0] * c.ft[0] + c.ft[1] * c.ft[1]).sqrt()
+        };
+        let mut g_touch = |_t: f64, y: &[f64; DIM]| top.height(y);
+        let level = settings.inversion_level.unwrap_or(2.0);
+        let mut g_inv = |_t: f64, y: &[f64; DIM]| top.kin(y).u - level;
+        let mut g_rest = |_t: f64, y: &[f64; DIM]| {
+            let (tr, rot, _) = top.energy_parts(y);
+            tr + rot - 1e-12 * ke0
+        };
+        let mut locator = Locator::new();
+        let mut names: Vec<&'static str> = Vec::new();
+        match mode {
+            Mode::Slip => {
+                locator.add(EventSpec::new(-1, true), &mut g_liftoff);
+                names.push("lift_off");
+                if mu.is_some() {
+                    locator.add(EventSpec::new(-1, true), &mut g_stop_slip);
+                    names.push("slip_to_roll");
+                }
+            }
+            Mode::Roll => {
+                locator.add(EventSpec::new(-1, true), &mut g_liftoff);
+                names.push("lift_off");
+                locator.add(EventSpec::new(-1, true), &mut g_cone);
+                names.push("roll_to_slip");
+            }
+            Mode::Flight => {
+                locator.add(EventSpec::new(-1, true), &mut g_touch);
+                names.push("touchdown");
+            }
+        }
+        let watch_inv = settings.inversion_level.is_some() && !inverted;
+        if watch_inv {
+            locator.add(EventSpec::new(1, settings.stop_at_inversion), &mut g_inv);
+            names.push("inversion");
+        }
+        if settings.stop_at_rest {
+            locator.add(EventSpec::new(-1, true), &mut g_rest);
+            names.push("rest");
+        }
+        // Output times of this segment.
+        let seg_times: Option<&[f64]> = settings.t_eval.as_deref().map(|te| {
+            let mut i = next_sample;
+            while i < te.len() && (te[i] < t || (!first && te[i] <= t)) {
+                i += 1;
+            }
+            &te[i..]
+        });
+        let offset = settings
+            .t_eval
+            .as_deref()
+            .map_or(0, |te| te.len() - seg_times.map_or(0, |s| s.len()));
+        let mut rec = Recorder {
+            every: seg_times.is_none().then(EveryStep::new),
+            sample: seg_times.map(SampleAt::new),
+        };
+        let mut obs = WithEvents::new(locator, &mut rec);
+        let (t1, y1, st) = integrator
+            .integrate(&sys, t, y, t_end, &mut obs)
+            .map_err(|e| KreiselError::Numerical(format!("play top, {} mode: {e}", mode.name())))?;
+        let hits: Vec<(usize, f64)> = obs.locator.events.iter().map(|e| (e.index, e.t)).collect();
+        drop(obs);
+        out.steps += st.steps;
+        out.rejected += st.rejected;
+        out.rhs_evals += st.rhs_evals;
+        let (ts, ys): (Vec<f64>, Vec<[f64; DIM]>) = match (rec.every, rec.sample) {
+            (Some(e), _) => (e.ts, e.ys),
+            (None, Some(s)) => {
+                let n = s.out.len();
+                let te = settings.t_eval.as_deref().expect("sampled");
+                next_sample = offset + n;
+                (te[offset..offset + n].to_vec(), s.out)
+            }
+            _ => (vec![], vec![]),
+        };
+        let skip = usize::from(!first && settings.t_eval.is_none() && !ts.is_empty());
+        for (ti, yi) in ts.iter().zip(&ys).skip(skip) {
+            out.t.push(*ti);
+            out.y.push(*yi);
+            out.mode.push(mode);
+            out.dir.push(dir);
+        }
+        first = false;
+        let mut terminal = None;
+        for (idx, te) in hits {
+            let name = names[idx];
+            out.events.push((name, te));
+            if name == "inversion" {
+                inverted = true;
+            }
+            if !matches!(name, "inversion") || settings.stop_at_inversion {
+                terminal = Some(name);
+            }
+        }
+        t = t1;
+        y = y1;
+        let Some(reason) = terminal else {
+            break;
+        };
+        if t >= t_end || reason == "rest" || reason == "inversion" {
+            break;
+        }
+        // Switch.
+        match reason {
+            "lift_off" => mode = Mode::Flight,
+            "slip_to_roll" => {
+                let (ok, c) = top.roll_admissible(&y);
+                if ok {
+                    mode = Mode::Roll;
+                } else {
+                    let ft = (c.ft[0] * c.ft[0] + c.ft[1] * c.ft[1]).sqrt();
+                    dir = if ft > 0.0 {
+                        [-c.ft[0] / ft, -c.ft[1] / ft, 0.0]
+                    } else {
+                        dir
+                    };
+                }
+            }
+            "roll_to_slip" => {
+                let (_, c) = top.roll_admissible(&y);
+                let ft = (c.ft[0] * c.ft[0] + c.ft[1] * c.ft[1]).sqrt();
+                if ft > 0.0 {
+                    dir = [-c.ft[0] / ft, -c.ft[1] / ft, 0.0];
+                }
+                mode = Mode::Slip;
+            }
+            "touchdown" => {
+                let (yi, sticks) = top.impact(&y);
+                y = yi;
+                let vn = top.kin(&y).v_t[2];
+                let bounce = vn > 1e-6 * top.slip_scale(&top.kin(&y));
+                mode = if bounce {
+                    Mode::Flight
+                } else if sticks && mu.is_some() && top.roll_admissible(&y).0 {
+                    Mode::Roll
+                } else {
+                    Mode::Slip
+                };
+                if mode != Mode::Flight {
+                    let k = top.kin(&y);
+                    let sp = (k.v_t[0] * k.v_t[0] + k.v_t[1] * k.v_t[1]).sqrt();
+                    if sp > 0.0 {
+                        dir = [k.v_t[0] / sp, k.v_t[1] / sp, 0.0];
+                    }
+                }
+            }
+            _ => {}
+        }
+        top.project(mode, &mut y);
+        // Record the state after the switch at the same time (impacts make it jump).
+        if settings.t_eval.is_none() {
+            out.t.push(t);
+            out.y.push(y);
+            out.mode.push(mode);
+            out.dir.push(dir);
+        }
+        if out.events.len() > MAX_SWITCHES {
+            break;
+        }
+    }
+    if t < t_end && out.events.len() > MAX_SWITCHES {
+        return Err(KreiselError::Numerical(format!(
+            "play top: more than {MAX_SWITCHES} mode switches before t = {t} (chattering); \
+             the model's contact modes do not settle here"
+        )));
+    }
+    Ok(out)
+}

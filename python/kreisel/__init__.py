@@ -2,7 +2,8 @@
 
 - :class:`LagrangeTop`: the heavy symmetric top on a pivot, solved exactly.
 - :class:`HeavyTop`: any rigid body on a pivot (Euler, Lagrange, Kovalevskaya, chaotic).
-- :func:`simulate`: structure-preserving and adaptive integration of either.
+- :class:`PlayTop`: a top with a spherical tip on a plane, with friction (tippe tops).
+- :func:`simulate`, :func:`simulate_many`: structure-preserving and adaptive integration.
 
 SI units and radians throughout; arrays are numpy arrays.
 """
@@ -12,14 +13,26 @@ from ._core import __version__
 from ._errors import KreiselError, NumericalError, ParameterError
 from ._heavy import HeavyTop, RigidState
 from ._lagrange import LagrangeTop
+from ._play import (
+    BatchSummary,
+    Coulomb,
+    Frictionless,
+    PlayState,
+    PlayTop,
+    Viscous,
+    simulate_many,
+)
 from ._simulate import Event, EventRecord, MethodInfo, methods, simulate
 from ._state import EulerState, Invariants, NutationAnalysis
 from ._trajectory import Trajectory
 
 __all__ = [
+    "BatchSummary",
+    "Coulomb",
     "Event",
     "EventRecord",
     "EulerState",
+    "Frictionless",
     "HeavyTop",
     "Invariants",
     "KreiselError",
@@ -28,10 +41,14 @@ __all__ = [
     "NumericalError",
     "NutationAnalysis",
     "ParameterError",
+    "PlayState",
+    "PlayTop",
     "RigidState",
     "Trajectory",
+    "Viscous",
     "__version__",
     "events",
     "methods",
     "simulate",
+    "simulate_many",
 ]

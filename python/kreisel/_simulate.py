@@ -102,8 +102,8 @@ def simulate(
 
     Parameters
     ----------
-    model : HeavyTop or LagrangeTop
-    state : EulerState or RigidState
+    model : HeavyTop, LagrangeTop or PlayTop
+    state : EulerState or RigidState (PlayState for a PlayTop)
     t_end : float
         End time (s), >= 0.
     method : str
@@ -128,8 +128,16 @@ def simulate(
         ``phi``, ``psi`` (unwrapped), ``energy``, ``Mz`` and, where they are integrals,
         ``M3`` and ``kovalevskaya``; attributes ``events`` (list of EventRecord) and ``stats``.
     """
+    from ._play import PlayTop, simulate_play
+
+    if isinstance(model, PlayTop):
+        return simulate_play(
+            model, state, t_end, method=method, rtol=rtol, atol=atol, t_eval=t_eval, events=events
+        )
     if not isinstance(model, _Rigid):
-        raise TypeError(f"model must be a HeavyTop or LagrangeTop, not {type(model).__name__}")
+        raise TypeError(
+            f"model must be a HeavyTop, LagrangeTop or PlayTop, not {type(model).__name__}"
+        )
     s = rigid_state(state)
     t_end = real("t_end", t_end)
     if t_end < 0:

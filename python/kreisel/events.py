@@ -33,3 +33,18 @@ def theta_crossing(value, *, direction=0, terminal=False) -> Event:
         terminal=terminal,
         _builtin=("theta_crossing", value),
     )
+
+
+def inversion(level=0.9, *, terminal=False) -> Event:
+    """Play top: u = cos(theta) rising through ``level`` (the top turning over)."""
+    level = real("level", level)
+    if not -1.0 <= level <= 1.0:
+        raise ParameterError(f"level = {level} is not allowed: u lies in [-1, 1]")
+    return Event(
+        None, name="inversion", direction=1, terminal=terminal, _builtin=("inversion", level)
+    )
+
+
+def rest(*, terminal=True) -> Event:
+    """Play top: the kinetic energy falls below 1e-12 of its start (the top has stopped)."""
+    return Event(None, name="rest", direction=-1, terminal=terminal, _builtin=("rest", 0.0))

@@ -326,3 +326,125 @@ pub fn simulate_play(top: &PlayTop, y0: [f64; DIM], settings: &PlaySettings) -> 
     }
     Ok(out)
 }
+
+/// Diagnostics of a play-top motion, as columns.
+#[derive(Debug, Clone, Default)]
+pub struct PlayColumns {
+    /// u = cos(theta).
+    pub u: Vec<f64>,
+    /// Euler angles (phi, psi unwrapped).
+    pub theta: Vec<f64>,
+    /// Precession angle.
+    pub phi: Vec<f64>,
+    /// Spin angle.
+    pub psi: Vec<f64>,
+    /// Contact point (the sphere's lowest point), space frame.
+    pub contact: Vec<[f64; 3]>,
+    /// Velocity of the material point at T.
+    pub slip_velocity: Vec<[f64; 3]>,
+    /// Horizontal slip speed.
+    pub slip_speed: Vec<f64>,
+    /// Normal force (0 in flight).
+    pub normal_force: Vec<f64>,
+    /// Jellett's integral.
+    pub jellett: Vec<f64>,
+    /// Energy parts: translation, rotation, potential.
+    pub energy_parts: Vec<[f64; 3]>,
+}
+
+/// Computes the diagnostics of every output of a play-top run.
+pub fn play_columns(top: &PlayTop, out: &PlayOutput) -> PlayColumns {
+    use crate::rotation::euler_from_quaternion;
+    let n = out.t.len();
+    let mut c = PlayColumns::default();
+    let tau = std::f64::consts::TAU;
+    let (mut lphi, mut lpsi) = (0.0f64, 0.0f64);
+    for i in 0..n {
+        let y = &out.y[i];
+        let k = top.kin(y);
+        let (phi, theta, psi) = euler_from_quaternion(k.q.normalized());
+        let (phi, psi) = if i == 0 {
+            (phi, psi)
+        } else {
+            (
+                phi + tau * ((lphi - phi) / tau).round(),
+                psi + tau * ((lpsi - psi) / tau).round(),
+            )
+        };
+        lphi = phi;
+        lpsi = psi;
+        c.u.push(k.u);
+        c.theta.push(theta);
+        c.phi.push(phi);
+        c.psi.push(psi);
+        c.contact
+            .push([y[7] + k.a_s[0], y[8] + k.a_s[1], y[9] + k.a_s[2]]);
+        c.slip_velocity.push(k.v_t);
+        c.slip_speed
+            .push((k.v_t[0] * k.v_t[0] + k.v_t[1] * k.v_t[1]).sqrt());
+        let mut dy = [0.0; DIM];
+        c.normal_force
+            .push(top.dynamics(out.mode[i], y, out.dir[i], &mut dy).n);
+        c.jellett.push(top.jellett(y));
+        let (a, b, p) = top.energy_parts(y);
+        c.energy_parts.push([a, b, p]);
+    }
+    c
+}
+
+/// What a batch run keeps of each simulation.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Summary {
+    /// u at the end.
+    pub final_u: f64,
+    /// Mode at the end.
+    pub final_mode: Mode,
+    /// Time of the first upward crossing of the inversion level (NaN if none).
+    pub inversion_time: f64,
+    /// Largest |J - J0| / |J0| over the run.
+    pub jellett_drift: f64,
+    /// Largest |E + dissipated - E0| / |E0| over the run.
+    pub energy_drift: f64,
+    /// Accepted steps.
+    pub steps: u64,
+}
+
+/// Summarises one run.
+pub fn summarise(top: &PlayTop, out: &PlayOutput) -> Summary {
+    let j0 = top.jellett(&out.y[0]);
+    let e0 = {
+        let (a, b, c) = top.energy_parts(&out.y[0]);
+        a + b + c
+    };
+    let (mut jd, mut ed) = (0.0f64, 0.0f64);
+    for y in &out.y {
+        jd = jd.max((top.jellett(y) - j0).abs());
+        let (a, b, c) = top.energy_parts(y);
+        ed = ed.max((a + b + c + y[13] - e0).abs());
+    }
+    let last = out.y.last().expect("a run has at least its start");
+    Summary {
+        final_u: top.kin(last).u,
+        final_mode: *out.mode.last().expect("start"),
+        inversion_time: out
+            .events
+            .iter()
+            .find(|e| e.0 == "inversion")
+            .map_or(f64::NAN, |e| e.1),
+        jellett_drift: if j0 != 0.0 { jd / j0.abs() } else { jd },
+        energy_drift: if e0 != 0.0 { ed / e0.abs() } else { ed },
+        steps: out.steps,
+    }
+}
+
+/// Runs many play-top simulations in parallel on all cores and summarises each. A run that
+/// fails gives its error in place.
+pub fn simulate_many(
+    runs: &[(PlayTop, [f64; DIM])],
+    settings: &PlaySettings,
+) -> Vec<Result<Summary>> {
+    use rayon::prelude::*;
+    runs.par_iter()
+        .map(|(top, y0)| simulate_play(top, *y0, settings).map(|o| summarise(top, &o)))
+        .collect()
+}

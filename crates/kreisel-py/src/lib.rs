@@ -3,6 +3,7 @@
 mod errors;
 mod heavy;
 mod lagrange;
+mod play;
 mod special;
 
 use pyo3::prelude::*;
@@ -11,6 +12,8 @@ use pyo3::prelude::*;
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<lagrange::PyLagrangeTop>()?;
     m.add_class::<heavy::PyHeavyTop>()?;
+    m.add_class::<play::PyPlayTop>()?;
+    m.add_function(wrap_pyfunction!(play::simulate_many, m)?)?;
     m.add_function(wrap_pyfunction!(lagrange::check_euler_state, m)?)?;
     m.add_function(wrap_pyfunction!(heavy::rigid_from_euler, m)?)?;
     m.add_function(wrap_pyfunction!(heavy::methods, m)?)?;

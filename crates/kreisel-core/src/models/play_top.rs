@@ -549,3 +549,47 @@ impl PlayTop {
         (out, sticks)
     }
 }
+
+impl PlayTop {
+    /// A state from orientation, body angular velocity and the horizontal velocity of G.
+    /// In contact (`height` None) G is at `rho + s u` and moves vertically with the
+    /// constraint; with `height` h >= 0 the sphere's lowest point is h above the floor and
+    /// G has no vertical velocity (a dropped top).
+    pub fn state(
+        &self,
+        q: Quat,
+        omega: [f64; 3],
+        vx: f64,
+        vy: f64,
+        height: Option<f64>,
+    ) -> Result<[f64; DIM]> {
+        finite("vx", vx)?;
+        finite("vy", vy)?;
+        let q = q.normalized();
+        let mut y = [0.0; DIM];
+        y[..4].copy_from_slice(&q.0);
+        y[4..7].copy_from_slice(&omega);
+        y[10] = vx;
+        y[11] = vy;
+        let u = q.up_in_body()[2];
+        match height {
+            None => {
+                y[9] = self.rho + self.s * u;
+                let g = q.up_in_body();
+                y[12] = self.s * cross(g, omega)[2];
+            }
+            Some(h) => {
+                if !(h.is_finite() && h >= 0.0) {
+                    return Err(KreiselError::invalid(
+                        "height",
+                        h,
+                        "the gap between the tip and the floor must be >= 0 (a top cannot \
+                         start below the floor)",
+                    ));
+                }
+                y[9] = h + self.rho + self.s * u;
+            }
+        }
+        Ok(y)
+    }
+}

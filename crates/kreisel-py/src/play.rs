@@ -1,0 +1,246 @@
+//! Bindings of the play top: conversion only.
+
+use crate::errors::IntoPyResult;
+use kreisel_core::models::play_top::{Friction, PlayTop, DIM};
+use kreisel_core::rotation::Quat;
+use kreisel_core::simulate_play::{self, PlaySettings};
+use numpy::{IntoPyArray, PyArrayMethods, PyReadonlyArray1};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+/// The native play top (parameters only).
+#[pyclass(name = "PlayTop", module = "kreisel._core", frozen)]
+pub struct PyPlayTop {
+    pub inner: PlayTop,
+}
+
+type Packed = ([f64; 4], [f64; 3], [f64; 3], [f64; 3]);
+
+fn pack(s: &Packed) -> [f64; DIM] {
+    let mut y = [0.0; DIM];
+    y[..4].copy_from_slice(&s.0);
+    y[4..7].copy_from_slice(&s.1);
+    y[7..10].copy_from_slice(&s.2);
+    y[10..13].copy_from_slice(&s.3);
+    y
+}
+
+fn unpack(y: &[f64; DIM]) -> Packed {
+    (
+        [y[0], y[1], y[2], y[3]],
+        [y[4], y[5], y[6]],
+        [y[7], y[8], y[9]],
+        [y[10], y[11], y[12]],
+    )
+}
+
+fn settings(
+    t_end: f64,
+    rtol: f64,
+    atol: f64,
+    t_eval: Option<Vec<f64>>,
+    inversion_level: Option<f64>,
+    stop_at_inversion: bool,
+    stop_at_rest: bool,
+) -> PlaySettings {
+    PlaySettings {
+        t_end,
+        rtol,
+        atol,
+        t_eval,
+        inversion_level,
+        stop_at_inversion,
+        stop_at_rest,
+    }
+}
+
+#[pymethods]
+impl PyPlayTop {
+    #[new]
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        py: Python<'_>,
+        m: f64,
+        a: f64,
+        c: f64,
+        s: f64,
+        rho: f64,
+        g: f64,
+        friction: &str,
+        mu: f64,
+        restitution: f64,
+        rolling: f64,
+        drilling: f64,
+        air: f64,
+    ) -> PyResult<Self> {
+        let fr = match friction {
+            "coulomb" => Friction::Coulomb { mu },
+            "viscous" => Friction::Viscous { mu },
+            _ => Friction::Frictionless,
+        };
+        Ok(PyPlayTop {
+            inner: PlayTop::new(m, a, c, s, rho, g, fr, restitution, rolling, drilling, air)
+                .py(py)?,
+        })
+    }
+
+    #[getter]
+    fn alpha(&self) -> f64 {
+        self.inner.alpha()
+    }
+    #[getter]
+    fn gamma(&self) -> f64 {
+        self.inner.gamma()
+    }
+    #[getter]
+    fn j_beta(&self) -> f64 {
+        self.inner.j_beta()
+    }
+
+    /// (q, omega, com, com_velocity) of a state given by orientation and rates.
+    #[pyo3(signature = (q, omega, vx, vy, height=None))]
+    fn state(
+        &self,
+        py: Python<'_>,
+        q: [f64; 4],
+        omega: [f64; 3],
+        vx: f64,
+        vy: f64,
+        height: Option<f64>,
+    ) -> PyResult<Packed> {
+        let y = self.inner.state(Quat(q), omega, vx, vy, height).py(py)?;
+        Ok(unpack(&y))
+    }
+
+    /// (Jellett's J, energy) of a packed state.
+    fn invariants(&self, s: Packed) -> (f64, f64) {
+        let y = pack(&s);
+        let (a, b, c) = self.inner.energy_parts(&y);
+        (self.inner.jellett(&y), a + b + c)
+    }
+
+    /// Simulates from a packed state; returns a dict of columns, events and stats.
+    #[pyo3(signature = (s, t_end, rtol, atol, t_eval=None, inversion_level=None, stop_at_inversion=false, stop_at_rest=false))]
+    #[allow(clippy::too_many_arguments)]
+    fn simulate<'py>(
+        &self,
+        py: Python<'py>,
+        s: Packed,
+        t_end: f64,
+        rtol: f64,
+        atol: f64,
+        t_eval: Option<PyReadonlyArray1<'py, f64>>,
+        inversion_level: Option<f64>,
+        stop_at_inversion: bool,
+        stop_at_rest: bool,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let te = match &t_eval {
+            Some(a) => Some(a.as_slice()?.to_vec()),
+            None => None,
+        };
+        let st = settings(
+            t_end,
+            rtol,
+            atol,
+            te,
+            inversion_level,
+            stop_at_inversion,
+            stop_at_rest,
+        );
+        let top = self.inner;
+        let y0 = pack(&s);
+        let (out, cols) = py
+            .detach(move || {
+                let out = simulate_play::simulate_play(&top, y0, &st)?;
+                let cols = simulate_play::play_columns(&top, &out);
+                Ok((out, cols))
+            })
+            .py(py)?;
+        let n = out.t.len();
+        let d = PyDict::new(py);
+        let flat = |k: std::ops::Range<usize>| -> Vec<f64> {
+            out.y.iter().flat_map(|y| y[k.clone()].to_vec()).collect()
+        };
+        let v3 = |v: &Vec<[f64; 3]>| -> Vec<f64> { v.iter().flat_map(|x| *x).collect() };
+        d.set_item("quaternion", flat(0..4).into_pyarray(py).reshape([n, 4])?)?;
+        d.set_item("omega", flat(4..7).into_pyarray(py).reshape([n, 3])?)?;
+        d.set_item("com", flat(7..10).into_pyarray(py).reshape([n, 3])?)?;
+        d.set_item(
+            "com_velocity",
+            flat(10..13).into_pyarray(py).reshape([n, 3])?,
+        )?;
+        d.set_item("dissipated", flat(13..14).into_pyarray(py))?;
+        d.set_item("theta", cols.theta.into_pyarray(py))?;
+        d.set_item("phi", cols.phi.into_pyarray(py))?;
+        d.set_item("psi", cols.psi.into_pyarray(py))?;
+        d.set_item("u", cols.u.into_pyarray(py))?;
+        d.set_item(
+            "contact_point",
+            v3(&cols.contact).into_pyarray(py).reshape([n, 3])?,
+        )?;
+        d.set_item(
+            "slip_velocity",
+            v3(&cols.slip_velocity).into_pyarray(py).reshape([n, 3])?,
+        )?;
+        d.set_item("slip_speed", cols.slip_speed.into_pyarray(py))?;
+        d.set_item("normal_force", cols.normal_force.into_pyarray(py))?;
+        d.set_item("jellett", cols.jellett.into_pyarray(py))?;
+        let ep: Vec<f64> = cols.energy_parts.iter().flat_map(|x| *x).collect();
+        d.set_item("energy_parts", ep.into_pyarray(py).reshape([n, 3])?)?;
+        let modes: Vec<&str> = out.mode.iter().map(|m| m.name()).collect();
+        d.set_item("mode", modes)?;
+        d.set_item("t", out.t.clone().into_pyarray(py))?;
+        d.set_item("events", out.events.clone())?;
+        let stats = PyDict::new(py);
+        stats.set_item("steps", out.steps)?;
+        stats.set_item("rejected", out.rejected)?;
+        stats.set_item("rhs_evals", out.rhs_evals)?;
+        d.set_item("stats", stats)?;
+        Ok(d)
+    }
+}
+
+/// Many runs in parallel: lists of native tops and packed states of equal length.
+/// Returns columns of the summaries and a list of per-run error messages (None if fine).
+#[pyfunction]
+#[pyo3(signature = (tops, states, t_end, rtol, atol, inversion_level))]
+#[allow(clippy::type_complexity)]
+pub fn simulate_many<'py>(
+    py: Python<'py>,
+    tops: Vec<PyRef<'py, PyPlayTop>>,
+    states: Vec<Packed>,
+    t_end: f64,
+    rtol: f64,
+    atol: f64,
+    inversion_level: f64,
+) -> PyResult<Bound<'py, PyDict>> {
+    let runs: Vec<_> = tops
+        .iter()
+        .zip(&states)
+        .map(|(t, s)| (t.inner, pack(s)))
+        .collect();
+    let st = settings(t_end, rtol, atol, None, Some(inversion_level), false, false);
+    let res = py.detach(move || simulate_play::simulate_many(&runs, &st));
+    let d = PyDict::new(py);
+    let get = |f: &dyn Fn(&simulate_play::Summary) -> f64| -> Vec<f64> {
+        res.iter().map(|r| r.as_ref().map_or(f64::NAN, f)).collect()
+    };
+    d.set_item("final_u", get(&|s| s.final_u).into_pyarray(py))?;
+    d.set_item(
+        "inversion_time",
+        get(&|s| s.inversion_time).into_pyarray(py),
+    )?;
+    d.set_item("jellett_drift", get(&|s| s.jellett_drift).into_pyarray(py))?;
+    d.set_item("energy_drift", get(&|s| s.energy_drift).into_pyarray(py))?;
+    let modes: Vec<&str> = res
+        .iter()
+        .map(|r| r.as_ref().map_or("error", |s| s.final_mode.name()))
+        .collect();
+    d.set_item("final_mode", modes)?;
+    let errors: Vec<Option<String>> = res
+        .iter()
+        .map(|r| r.as_ref().err().map(|e| e.to_string()))
+        .collect();
+    d.set_item("errors", errors)?;
+    Ok(d)
+}

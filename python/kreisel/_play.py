@@ -1,0 +1,361 @@
+"""The play top: a symmetric top with a spherical tip on a plane, with friction."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from . import _core
+from ._errors import ParameterError
+from ._heavy import _vector, euler_state
+from ._validate import real
+
+
+@dataclass(frozen=True)
+class Coulomb:
+    """Coulomb friction: |F_t| = mu N against the slip while slipping; rolling without slip
+    while the needed force stays within |F_t| <= mu N (true stick-slip)."""
+
+    mu: float = 0.3
+
+    def __post_init__(self):
+        mu = real("mu", self.mu)
+        if mu < 0:
+            raise ParameterError(f"mu = {mu} is not allowed: a friction coefficient is >= 0")
+        object.__setattr__(self, "mu", mu)
+
+
+@dataclass(frozen=True)
+class Viscous:
+    """Viscous friction: tangential force -mu N v_T at the contact (mu in s/m)."""
+
+    mu: float = 1.0
+
+    def __post_init__(self):
+        mu = real("mu", self.mu)
+        if mu < 0:
+            raise ParameterError(f"mu = {mu} is not allowed: a friction coefficient is >= 0")
+        object.__setattr__(self, "mu", mu)
+
+
+@dataclass(frozen=True)
+class Frictionless:
+    """No tangential force at the contact."""
+
+
+@dataclass(frozen=True)
+class PlayState:
+    """State of a play top.
+
+    Attributes
+    ----------
+    quaternion : ndarray (4,)
+        Orientation (w, x, y, z), body 3-axis = e3 (from the sphere centre to the centre of
+        mass).
+    omega : ndarray (3,)
+        Angular velocity, body frame (rad/s).
+    com : ndarray (3,)
+        Position of the centre of mass (m).
+    com_velocity : ndarray (3,)
+        Its velocity (m/s).
+    """
+
+    quaternion: np.ndarray = field(repr=False)
+    omega: np.ndarray = field(repr=False)
+    com: np.ndarray = field(repr=False)
+    com_velocity: np.ndarray = field(repr=False)
+
+    def _packed(self):
+        return (
+            list(self.quaternion),
+            list(self.omega),
+            list(self.com),
+            list(self.com_velocity),
+        )
+
+    def __repr__(self) -> str:
+        def f(a):
+            return "[" + ", ".join(f"{x:.10g}" for x in a) + "]"
+
+        return (
+            f"PlayState(quaternion={f(self.quaternion)}, omega={f(self.omega)}, "
+            f"com={f(self.com)}, com_velocity={f(self.com_velocity)})"
+        )
+
+
+def _state(packed) -> PlayState:
+    return PlayState(*(np.array(x, dtype=float) for x in packed))
+
+
+class PlayTop:
+    """A symmetric top with a spherical tip on a horizontal plane.
+
+    Parameters
+    ----------
+    m : float
+        Mass (kg).
+    A, C : float
+        Equatorial and axial moments of inertia about the centre of mass (kg m^2),
+        0 < C <= 2 A.
+    s : float
+        Distance from the centre of the tip sphere to the centre of mass along the figure
+        axis (m), >= 0.
+    rho : float
+        Radius of the tip sphere (m), > 0.
+    g : float
+        Gravitational acceleration (m/s^2).
+    friction : Coulomb, Viscous or Frictionless
+        Tangential force law at the contact.
+    restitution : float
+        Coefficient of restitution of impacts after a flight, in [0, 1].
+    rolling_resistance, drilling_resistance : float
+        Lengths (m) of small loss torques, ``-delta N`` against the rolling and the drilling
+        rotation.
+    air_drag : float
+        A torque ``-air_drag omega`` (N m s).
+
+    Conventions: PHYSICS notes section 3 (u = 1 upright, alpha = s/rho, gamma = A/C,
+    Jellett's J = L.(s e3 + rho ez)). Source: the seed ``play-top.txt``.
+    """
+
+    __slots__ = ("_p", "_friction", "_native")
+
+    def __init__(
+        self,
+        m,
+        A,
+        C,
+        s,
+        rho,
+        g=9.81,
+        friction=None,
+        restitution=0.0,
+        rolling_resistance=0.0,
+        drilling_resistance=0.0,
+        air_drag=0.0,
+    ):
+        friction = Coulomb(0.3) if friction is None else friction
+        if not isinstance(friction, (Coulomb, Viscous, Frictionless)):
+            raise ParameterError(
+                f"friction = {friction!r} is not allowed: use kreisel.Coulomb(mu), "
+                "kreisel.Viscous(mu) or kreisel.Frictionless()"
+            )
+        p = dict(
+            m=real("m", m),
+            A=real("A", A),
+            C=real("C", C),
+            s=real("s", s),
+            rho=real("rho", rho),
+            g=real("g", g),
+            restitution=real("restitution", restitution),
+            rolling_resistance=real("rolling_resistance", rolling_resistance),
+            drilling_resistance=real("drilling_resistance", drilling_resistance),
+            air_drag=real("air_drag", air_drag),
+        )
+        kind = {Coulomb: "coulomb", Viscous: "viscous", Frictionless: "none"}[type(friction)]
+        self._native = _core.PlayTop(
+            p["m"], p["A"], p["C"], p["s"], p["rho"], p["g"], kind,
+            getattr(friction, "mu", 0.0), p["restitution"], p["rolling_resistance"],
+            p["drilling_resistance"], p["air_drag"],
+        )  # fmt: skip
+        self._p, self._friction = p, friction
+
+    def __getattr__(self, name):
+        p = object.__getattribute__(self, "_p")
+        if name in p:
+            return p[name]
+        raise AttributeError(f"PlayTop has no attribute {name!r}")
+
+    friction = property(lambda self: self._friction, doc="The friction law.")
+    alpha = property(lambda self: self._native.alpha, doc="s / rho.")
+    gamma = property(lambda self: self._native.gamma, doc="A / C.")
+    J_beta = property(lambda self: self._native.j_beta, doc="rho sqrt(C m g s) (kg m^2/s).")
+
+    def __repr__(self) -> str:
+        p = self._p
+        extra = "".join(
+            f", {k}={p[k]!r}"
+            for k in ("restitution", "rolling_resistance", "drilling_resistance", "air_drag")
+            if p[k] != 0.0
+        )
+        return (
+            f"PlayTop(m={p['m']!r}, A={p['A']!r}, C={p['C']!r}, s={p['s']!r}, "
+            f"rho={p['rho']!r}, g={p['g']!r}, friction={self._friction!r}{extra})"
+        )
+
+    def state(
+        self,
+        theta,
+        phi=0.0,
+        psi=0.0,
+        theta_dot=0.0,
+        phi_dot=0.0,
+        psi_dot=0.0,
+        vx=0.0,
+        vy=0.0,
+        height=None,
+    ) -> PlayState:
+        """A state from Euler angles of e3 (z-x-z, rad) and their rates (rad/s), and the
+        horizontal velocity of the centre of mass (m/s). In contact unless ``height`` (m, the
+        gap between the tip and the floor, >= 0) is given: a dropped top."""
+        e = euler_state(theta, phi, psi, theta_dot, phi_dot, psi_dot)
+        q, w = _core.rigid_from_euler(*e.as_tuple())
+        h = None if height is None else real("height", height)
+        return _state(self._native.state(q, w, real("vx", vx), real("vy", vy), h))
+
+    def state_from_quaternion(self, q, omega, vx=0.0, vy=0.0, height=None) -> PlayState:
+        """A state from a quaternion (w, x, y, z; normalised here) and the body angular
+        velocity (rad/s); contact and ``height`` as in :meth:`state`."""
+        qq = _vector("q", q, 4)
+        if not any(qq):
+            raise ParameterError("q = [0, 0, 0, 0] is not allowed: a quaternion must be non-zero")
+        h = None if height is None else real("height", height)
+        w = _vector("omega", omega, 3)
+        return _state(self._native.state(qq, w, real("vx", vx), real("vy", vy), h))
+
+    def _check(self, state):
+        if not isinstance(state, PlayState):
+            raise TypeError(
+                f"state must be a PlayState (from pt.state(...)), not {type(state).__name__}"
+            )
+        return state._packed()
+
+    def jellett(self, state) -> float:
+        """Jellett's integral J = L.(s e3 + rho ez) (kg m^2/s)."""
+        return self._native.invariants(self._check(state))[0]
+
+    def energy(self, state) -> float:
+        """Total energy (J): translation + rotation + m g z_G."""
+        return self._native.invariants(self._check(state))[1]
+
+
+@dataclass(frozen=True)
+class BatchSummary:
+    """Per-run summaries of :func:`simulate_many`, as arrays (one entry per run)."""
+
+    final_u: np.ndarray
+    final_mode: np.ndarray
+    inversion_time: np.ndarray
+    jellett_drift: np.ndarray
+    energy_drift: np.ndarray
+    errors: tuple
+
+    def __len__(self) -> int:
+        return len(self.final_u)
+
+
+def simulate_many(models, states, t_end, *, rtol=1e-10, atol=1e-12, inversion_level=0.9):
+    """Simulates many play tops in parallel on all cores (the GIL released) and summarises
+    each run.
+
+    Parameters
+    ----------
+    models : PlayTop or sequence of PlayTop
+    states : PlayState or sequence of PlayState
+        Broadcast against ``models``: one model with many states, many models with one
+        state, or equal-length sequences.
+    t_end : float
+        Duration (s).
+    inversion_level : float
+        The u level whose first upward crossing is the inversion time.
+
+    Returns
+    -------
+    BatchSummary
+        ``final_u``, ``final_mode``, ``inversion_time`` (nan if none), ``jellett_drift``
+        and ``energy_drift`` (largest relative change of J, and of E + dissipated), and
+        ``errors`` (None for runs that went through).
+    """
+    ms = [models] if isinstance(models, PlayTop) else list(models)
+    ss = [states] if isinstance(states, PlayState) else list(states)
+    if len(ms) == 1 and len(ss) > 1:
+        ms = ms * len(ss)
+    if len(ss) == 1 and len(ms) > 1:
+        ss = ss * len(ms)
+    if len(ms) != len(ss):
+        raise ParameterError(
+            f"models ({len(ms)}) and states ({len(ss)}) are not allowed: give one of each, "
+            "one and many, or equally many"
+        )
+    for m in ms:
+        if not isinstance(m, PlayTop):
+            raise ParameterError(f"models contains {m!r}, which is not allowed: use PlayTop")
+    t_end = real("t_end", t_end)
+    if t_end < 0:
+        raise ParameterError(f"t_end = {t_end} is not allowed: it must be >= 0")
+    rtol, atol = _tolerances(rtol, atol)
+    out = _core.simulate_many(
+        [m._native for m in ms],
+        [ms[i]._check(s) for i, s in enumerate(ss)],
+        t_end,
+        rtol,
+        atol,
+        real("inversion_level", inversion_level),
+    )
+    return BatchSummary(
+        final_u=out["final_u"],
+        final_mode=np.array(out["final_mode"]),
+        inversion_time=out["inversion_time"],
+        jellett_drift=out["jellett_drift"],
+        energy_drift=out["energy_drift"],
+        errors=tuple(out["errors"]),
+    )
+
+
+def _tolerances(rtol, atol):
+    rtol, atol = real("rtol", rtol), real("atol", atol)
+    if not 1e-15 <= rtol < 1:
+        raise ParameterError(f"rtol = {rtol} is not allowed: it must lie in [1e-15, 1)")
+    if not atol > 0:
+        raise ParameterError(f"atol = {atol} is not allowed: it must be > 0")
+    return rtol, atol
+
+
+def simulate_play(model: PlayTop, state, t_end, *, method, rtol, atol, t_eval, events):
+    """The play-top branch of :func:`kreisel.simulate`."""
+    from ._simulate import Event, EventRecord
+    from ._trajectory import Trajectory
+    from ._validate import times
+
+    if method != "dop853":
+        raise ParameterError(
+            f"method = {method!r} is not allowed for a PlayTop: its contact modes, events "
+            "and impacts need the adaptive 'dop853'"
+        )
+    packed = model._check(state)
+    t_end = real("t_end", t_end)
+    if t_end < 0:
+        raise ParameterError(f"t_end = {t_end} is not allowed: it must be >= 0")
+    rtol, atol = _tolerances(rtol, atol)
+    te = None if t_eval is None else times("t_eval", t_eval)
+    if te is not None and (np.any(np.diff(te) < 0) or te[0] < 0 or te[-1] > t_end):
+        raise ParameterError(
+            f"t_eval is not allowed: output times must be ascending and lie in [0, {t_end}]"
+        )
+    level, stop_inv, stop_rest = None, False, False
+    for e in events or []:
+        kind = getattr(e, "_builtin", None)
+        if not isinstance(e, Event) or kind is None or kind[0] not in ("inversion", "rest"):
+            raise ParameterError(
+                f"events contains {e!r}, which is not allowed for a PlayTop: use "
+                "kreisel.events.inversion(level) or kreisel.events.rest()"
+            )
+        if kind[0] == "inversion":
+            level, stop_inv = kind[1], e.terminal
+        else:
+            stop_rest = True
+    out = model._native.simulate(packed, t_end, rtol, atol, te, level, stop_inv, stop_rest)
+    stats = out.pop("stats")
+    hits = out.pop("events")
+    parts = out.pop("energy_parts")
+    out["mode"] = np.array(out["mode"])
+    out["energy_translation"] = parts[:, 0]
+    out["energy_rotation"] = parts[:, 1]
+    out["energy_potential"] = parts[:, 2]
+    out["energy"] = parts.sum(axis=1)
+    names = [
+        "slip_to_roll", "roll_to_slip", "lift_off", "touchdown", "inversion", "rest",
+    ]  # fmt: skip
+    records = [EventRecord(name, t, names.index(name)) for name, t in hits]
+    return Trajectory(out, model=model, state=state, method=method, stats=stats, events=records)

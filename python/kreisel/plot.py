@@ -97,3 +97,54 @@ def effective_potential(top, state, ax=None, *, n=800):
     ax.set_ylabel("energy (J)")
     ax.legend(loc="upper right")
     return ax
+
+
+_MODE_COLOURS = {"slip": "#f3d9b1", "roll": "#cfe3f5", "flight": "#d9f0d3"}
+
+
+def shade_modes(ax, traj):
+    """Shades the contact modes (slip, roll, flight) of a play-top trajectory behind ``ax``."""
+    t, mode = traj.t, traj.mode
+    if len(t) == 0:
+        return ax
+    start = 0
+    for i in range(1, len(t) + 1):
+        if i == len(t) or mode[i] != mode[start]:
+            ax.axvspan(t[start], t[min(i, len(t) - 1)], color=_MODE_COLOURS[str(mode[start])],
+                       lw=0, zorder=0)  # fmt: skip
+            start = i
+    return ax
+
+
+def play_time_series(traj, fig=None):
+    """u, normal force, slip speed, Jellett's integral and the energy over time for a
+    play-top trajectory, with the contact modes shaded (slip tan, roll blue, flight green)."""
+    plt = _pyplot()
+    if fig is None:
+        fig = plt.figure(figsize=(9, 10))
+    axes = fig.subplots(5, 1, sharex=True)
+    t = traj.t
+    rows = [
+        (traj.u, r"$u = \cos\theta$"),
+        (traj.normal_force, "normal force N (N)"),
+        (traj.slip_speed, "slip speed (m/s)"),
+        (traj.jellett / traj.jellett[0] - 1.0, r"$J/J_0 - 1$"),
+    ]
+    for ax, (y, label) in zip(axes, rows):
+        shade_modes(ax, traj)
+        ax.plot(t, y, color="C0", lw=1.0)
+        ax.set_ylabel(label)
+    ax = axes[4]
+    shade_modes(ax, traj)
+    ax.plot(t, traj.energy, color="C3", lw=1.0, label="energy E")
+    ax.plot(t, traj.energy_rotation, color="C1", lw=0.8, label="rotation")
+    ax.plot(t, traj.energy_potential - traj.energy_potential.min(), color="C2", lw=0.8,
+            label="potential (above its minimum)")  # fmt: skip
+    ax.plot(t, traj.energy + traj.dissipated, color="k", lw=0.8, ls="--",
+            label="E + dissipated")  # fmt: skip
+    ax.set_ylabel("energy (J)")
+    ax.set_xlabel("time t (s)")
+    ax.legend(loc="center right", fontsize=8)
+    for a in axes:
+        a.grid(alpha=0.3)
+    return fig

@@ -119,13 +119,6 @@ const MAX_SWITCHES: usize = 200_000;
 /// Simulates a play top from `y0` (mode chosen from the state).
 pub fn simulate_play(top: &PlayTop, y0: [f64; DIM], settings: &PlaySettings) -> Result<PlayOutput> {
     let t_end = settings.t_end;
-    let integrator = Dop853 {
-        rtol: settings.rtol,
-        atol: settings.atol,
-        h_init: None,
-        h_max: f64::INFINITY,
-        max_steps: 100_000_000,
-    };
     let mut out = PlayOutput::default();
     let mut y = y0;
     let mut mode = initial_mode(top, &y);
@@ -145,6 +138,17 @@ pub fn simulate_play(top: &PlayTop, y0: [f64; DIM], settings: &PlaySettings) -> 
     let mut first = true;
     loop {
         let sys = ModeSystem { top, mode, dir };
+        let integrator = Dop853 {
+            rtol: settings.rtol,
+            atol: settings.atol,
+            h_init: None,
+            h_max: if mode == Mode::Flight {
+                top.flight_step(&y)
+            } else {
+                f64::INFINITY
+            },
+            max_steps: 100_000_000,
+        };
         let eps = 1e-10 * top.slip_scale(&top.kin(&y));
         // Mode events (terminal) then watched ones.
         let mut g_liftoff = |_t: f64, y: &[f64; DIM]| {
@@ -287,8 +291,21 @@ pub fn simulate_play(top: &PlayTop, y0: [f64; DIM], settings: &PlaySettings) -> 
             "touchdown" => {
                 let (yi, sticks) = top.impact(&y);
                 y = yi;
+                // A bounce too short to resolve (fewer than four flight steps) is absorbed:
+                // the impact is then plastic.
                 let vn = top.kin(&y).v_t[2];
-                let bounce = vn > 1e-6 * top.slip_scale(&top.kin(&y));
+                let hop = if top.g > 0.0 {
+                    2.0 * vn / top.g
+                } else {
+                    f64::INFINITY
+                };
+                let bounce = vn > 0.0 && hop > 4.0 * top.flight_step(&y);
+                let mut sticks = sticks;
+                if !bounce && vn > 0.0 {
+                    let (yp, s2) = top.impact_with(&y, 0.0);
+                    y = yp;
+                    sticks = s2;
+                }
                 mode = if bounce {
                     Mode::Flight
                 } else if sticks && mu.is_some() && top.roll_admissible(&y).0 {

@@ -318,6 +318,19 @@ impl PlayTop {
         }
     }
 
+    /// Largest step in flight: a tenth of the time to fall through the tip's radius, and a
+    /// quarter radian of rotation, so that the touchdown of a short hop is never stepped
+    /// over (an event inside one step is located only if the sign differs at its ends).
+    pub fn flight_step(&self, y: &[f64; DIM]) -> f64 {
+        let w = (y[4] * y[4] + y[5] * y[5] + y[6] * y[6]).sqrt();
+        let fall = if self.g > 0.0 {
+            0.1 * (self.rho / self.g).sqrt()
+        } else {
+            f64::INFINITY
+        };
+        fall.min(0.25 / w.max(1e-300))
+    }
+
     /// A speed scale of the motion: rho |omega| + |v| + sqrt(g rho).
     pub fn slip_scale(&self, k: &Kin) -> f64 {
         self.rho * dot(k.w, k.w).sqrt() + dot(k.v, k.v).sqrt() + (self.g * self.rho).sqrt()
@@ -493,9 +506,13 @@ impl PlayTop {
     /// if it lies in the friction cone, else a sliding impulse against the slip.
     /// Returns the new state and whether the contact sticks (no slip after the impact).
     pub fn impact(&self, y: &[f64; DIM]) -> ([f64; DIM], bool) {
+        self.impact_with(y, self.restitution)
+    }
+
+    /// [`PlayTop::impact`] with a given coefficient of restitution.
+    pub fn impact_with(&self, y: &[f64; DIM], e: f64) -> ([f64; DIM], bool) {
         let k = self.kin(y);
         let vn = k.v_t[2];
-        let e = self.restitution;
         // Velocity change of T per unit impulse P (space frame): P/m + (I^-1 (a x P)) x a.
         let kmat = |p: [f64; 3]| {
             let pb = k.q.rotate_inv(p);
@@ -542,6 +559,8 @@ impl PlayTop {
             out[4 + i] += dw[i];
             out[10 + i] += p[i] / self.m;
         }
+        // The impact happens on the floor.
+        out[9] = self.rho + self.s * k.u;
         // Kinetic energy lost in the impact is dissipated.
         let (t0, r0, _) = self.energy_parts(y);
         let (t1, r1, _) = self.energy_parts(&out);

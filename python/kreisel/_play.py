@@ -12,6 +12,13 @@ from ._heavy import _vector, euler_state
 from ._validate import real
 
 
+def _check_mu(law) -> None:
+    mu = real("mu", law.mu)
+    if mu < 0:
+        raise ParameterError(f"mu = {mu} is not allowed: a friction coefficient is >= 0")
+    object.__setattr__(law, "mu", mu)
+
+
 @dataclass(frozen=True)
 class Coulomb:
     """Coulomb friction: |F_t| = mu N against the slip while slipping; rolling without slip
@@ -20,10 +27,7 @@ class Coulomb:
     mu: float = 0.3
 
     def __post_init__(self):
-        mu = real("mu", self.mu)
-        if mu < 0:
-            raise ParameterError(f"mu = {mu} is not allowed: a friction coefficient is >= 0")
-        object.__setattr__(self, "mu", mu)
+        _check_mu(self)
 
 
 @dataclass(frozen=True)
@@ -33,10 +37,7 @@ class Viscous:
     mu: float = 1.0
 
     def __post_init__(self):
-        mu = real("mu", self.mu)
-        if mu < 0:
-            raise ParameterError(f"mu = {mu} is not allowed: a friction coefficient is >= 0")
-        object.__setattr__(self, "mu", mu)
+        _check_mu(self)
 
 
 @dataclass(frozen=True)

@@ -7,12 +7,10 @@ use crate::integrate::rk4::Rk4Scheme;
 use crate::integrate::splitting::Splitting;
 use crate::integrate::verlet::Verlet;
 use crate::integrate::{
-    Dense, Dop853, EventSpec, EveryStep, IntegrateError, Locator, Observer, OdeSystem, SampleAt,
-    WithEvents,
+    Dop853, EventSpec, IntegrateError, Locator, OdeSystem, Recorder, WithEvents,
 };
 use crate::models::heavy_top::{HeavyTop, RigidState};
 use crate::rotation::{cross, euler_from_quaternion, Quat};
-use std::ops::ControlFlow;
 
 /// What a method is and can do.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -378,37 +376,6 @@ pub fn simulate(
     }
 }
 
-/// Records every accepted step or the requested times, and asks `keep_going`.
-struct Recorder<'a, 'b, const N: usize> {
-    every: Option<EveryStep<N>>,
-    sample: Option<SampleAt<'a, N>>,
-    keep_going: &'b mut dyn FnMut(f64) -> bool,
-}
-
-impl<const N: usize> Observer<N> for Recorder<'_, '_, N> {
-    fn start(&mut self, t0: f64, y0: &[f64; N]) {
-        if let Some(e) = self.every.as_mut() {
-            e.start(t0, y0);
-        }
-        if let Some(s) = self.sample.as_mut() {
-            s.start(t0, y0);
-        }
-    }
-    fn step(&mut self, t: f64, y: &[f64; N], dense: &dyn Dense<N>) -> ControlFlow<()> {
-        if let Some(e) = self.every.as_mut() {
-            let _ = e.step(t, y, dense);
-        }
-        if let Some(s) = self.sample.as_mut() {
-            let _ = s.step(t, y, dense);
-        }
-        if (self.keep_going)(t) {
-            ControlFlow::Continue(())
-        } else {
-            ControlFlow::Break(())
-        }
-    }
-}
-
 fn integrate_error(e: IntegrateError) -> KreiselError {
     KreiselError::Numerical(format!("{e}"))
 }
@@ -422,11 +389,7 @@ fn run_ode<const N: usize, S: OdeSystem<N>>(
     events: &mut [EventDef<'_>],
     keep_going: &mut dyn FnMut(f64) -> bool,
 ) -> Result<Output> {
-    let mut recorder = Recorder {
-        every: settings.t_eval.is_none().then(EveryStep::new),
-        sample: settings.t_eval.as_deref().map(SampleAt::new),
-        keep_going,
-    };
+    let mut recorder = Recorder::new(settings.t_eval.as_deref(), Some(keep_going));
     let specs: Vec<EventSpec> = events
         .iter()
         .map(|e| EventSpec::new(e.direction, e.terminal))

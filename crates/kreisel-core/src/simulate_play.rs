@@ -8,11 +8,8 @@
 //! through an impact with restitution and a Coulomb friction impulse.
 
 use crate::error::{KreiselError, Result};
-use crate::integrate::{
-    Dense, Dop853, EventSpec, EveryStep, Locator, Observer, OdeSystem, SampleAt, WithEvents,
-};
+use crate::integrate::{Dop853, EventSpec, Locator, OdeSystem, Recorder, WithEvents};
 use crate::models::play_top::{Friction, Mode, PlayTop, DIM};
-use std::ops::ControlFlow;
 
 /// Settings of a play-top simulation.
 #[derive(Debug, Clone)]
@@ -86,31 +83,6 @@ pub fn initial_mode(top: &PlayTop, y: &[f64; DIM]) -> Mode {
         Mode::Roll
     } else {
         Mode::Slip
-    }
-}
-
-struct Recorder<'a> {
-    every: Option<EveryStep<DIM>>,
-    sample: Option<SampleAt<'a, DIM>>,
-}
-
-impl Observer<DIM> for Recorder<'_> {
-    fn start(&mut self, t0: f64, y0: &[f64; DIM]) {
-        if let Some(e) = self.every.as_mut() {
-            e.start(t0, y0);
-        }
-        if let Some(s) = self.sample.as_mut() {
-            s.start(t0, y0);
-        }
-    }
-    fn step(&mut self, t: f64, y: &[f64; DIM], dense: &dyn Dense<DIM>) -> ControlFlow<()> {
-        if let Some(e) = self.every.as_mut() {
-            let _ = e.step(t, y, dense);
-        }
-        if let Some(s) = self.sample.as_mut() {
-            let _ = s.step(t, y, dense);
-        }
-        ControlFlow::Continue(())
     }
 }
 
@@ -214,10 +186,7 @@ pub fn simulate_play(top: &PlayTop, y0: [f64; DIM], settings: &PlaySettings) -> 
             .t_eval
             .as_deref()
             .map_or(0, |te| te.len() - seg_times.map_or(0, |s| s.len()));
-        let mut rec = Recorder {
-            every: seg_times.is_none().then(EveryStep::new),
-            sample: seg_times.map(SampleAt::new),
-        };
+        let mut rec = Recorder::new(seg_times, None);
         let mut obs = WithEvents::new(locator, &mut rec);
         let (t1, y1, st) = integrator
             .integrate(&sys, t, y, t_end, &mut obs)

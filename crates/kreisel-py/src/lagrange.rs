@@ -100,17 +100,7 @@ impl PyLagrangeTop {
                 .map_err(|_| pyo3::exceptions::PyRuntimeError::new_err("six outputs"))?;
             py.detach(|| {
                 if direct {
-                    let [th, ph, ps, thd, phd, psd] = out;
-                    for (i, &ti) in ts.iter().enumerate() {
-                        let e = ex.at_direct(ti)?;
-                        th[i] = e.theta;
-                        ph[i] = e.phi;
-                        ps[i] = e.psi;
-                        thd[i] = e.theta_dot;
-                        phd[i] = e.phi_dot;
-                        psd[i] = e.psi_dot;
-                    }
-                    Ok(())
+                    ex.eval_direct_into(ts, out)
                 } else {
                     ex.eval_par_into(ts, out)
                 }

@@ -346,3 +346,52 @@ impl std::error::Error for IntegrateError {}
 
 #[cfg(test)]
 mod tests;
+
+/// Records either every accepted step or the values at requested times, and stops the run
+/// when `keep_going(t)` says so (cancellation, or an error inside an event function).
+pub struct Recorder<'a, 'b, const N: usize> {
+    /// Every accepted step (when no times were requested).
+    pub every: Option<EveryStep<N>>,
+    /// The requested times.
+    pub sample: Option<SampleAt<'a, N>>,
+    keep_going: Option<&'b mut dyn FnMut(f64) -> bool>,
+}
+
+impl<'a, 'b, const N: usize> Recorder<'a, 'b, N> {
+    /// A recorder of `times` if given, else of every step.
+    pub fn new(
+        times: Option<&'a [f64]>,
+        keep_going: Option<&'b mut dyn FnMut(f64) -> bool>,
+    ) -> Self {
+        Recorder {
+            every: times.is_none().then(EveryStep::new),
+            sample: times.map(SampleAt::new),
+            keep_going,
+        }
+    }
+}
+
+impl<const N: usize> Observer<N> for Recorder<'_, '_, N> {
+    fn start(&mut self, t0: f64, y0: &[f64; N]) {
+        if let Some(e) = self.every.as_mut() {
+            e.start(t0, y0);
+        }
+        if let Some(s) = self.sample.as_mut() {
+            s.start(t0, y0);
+        }
+    }
+    fn step(&mut self, t: f64, y: &[f64; N], dense: &dyn Dense<N>) -> ControlFlow<()> {
+        if let Some(e) = self.every.as_mut() {
+            let _ = e.step(t, y, dense);
+        }
+        if let Some(s) = self.sample.as_mut() {
+            let _ = s.step(t, y, dense);
+        }
+        let go = self.keep_going.as_mut().is_none_or(|k| k(t));
+        if go {
+            ControlFlow::Continue(())
+        } else {
+            ControlFlow::Break(())
+        }
+    }
+}

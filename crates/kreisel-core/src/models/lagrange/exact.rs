@@ -824,6 +824,22 @@ impl LagrangeExact {
         Ok(out)
     }
 
+    /// Like [`LagrangeExact::eval_into`] but every time by direct evaluation of the elliptic
+    /// functions (slow; for checks).
+    pub fn eval_direct_into(&self, t: &[f64], out: [&mut [f64]; 6]) -> Result<()> {
+        let [th, ph, ps, thd, phd, psd] = out;
+        for (i, &ti) in t.iter().enumerate() {
+            let e = self.at_direct(ti)?;
+            th[i] = e.theta;
+            ph[i] = e.phi;
+            ps[i] = e.psi;
+            thd[i] = e.theta_dot;
+            phd[i] = e.phi_dot;
+            psd[i] = e.psi_dot;
+        }
+        Ok(())
+    }
+
     /// [`LagrangeExact::eval_into`] spread over the machine's cores in chunks.
     pub fn eval_par_into(&self, t: &[f64], out: [&mut [f64]; 6]) -> Result<()> {
         use rayon::prelude::*;

@@ -176,20 +176,9 @@ def euler_rates(traj):
 
 
 def _lagrange_columns(traj):
-    """Energy (J), Mz and M3 (kg m^2/s) of an exact Lagrange trajectory, or None."""
-    from ._lagrange import LagrangeTop
+    from ._diagnostics import lagrange_columns
 
-    top = getattr(traj, "model", None)
-    if not isinstance(top, LagrangeTop) or "psi_dot" not in traj.columns:
-        return None
-    th, thd, phd, psd = traj.theta, traj.theta_dot, traj.phi_dot, traj.psi_dot
-    s, c = np.sin(th), np.cos(th)
-    w3 = psd + phd * c
-    m3 = top.I3 * w3
-    mz = top.I1 * phd * s * s + m3 * c
-    v = top.m * top.g * top.l * c
-    e = 0.5 * top.I1 * (thd**2 + (phd * s) ** 2) + 0.5 * top.I3 * w3**2 + v
-    return {"energy": e, "Mz": mz, "M3": m3, "potential": v}
+    return lagrange_columns(traj)
 
 
 def _potential(traj):
@@ -276,41 +265,28 @@ def axis_path_phi_theta(traj, ax=None, *, color="C0", label=None, turning_points
     return ax
 
 
-_INVARIANTS = (
-    ("energy", "energy E"),
-    ("Mz", r"$M_z$"),
-    ("M3", r"$M_3$"),
-    ("kovalevskaya", "Kovalevskaya's K"),
-)
-
-
 def invariant_drift(traj, ax=None, *, floor=1e-17):
-    """Relative drift ``|X(t) - X(0)| / |X(0)|`` of the conserved quantities on a log scale:
+    """Relative drift ``|X(t) - X(0)| / |X(0)|`` of the conserved quantities on a log scale
+    (Mz and M3 against the angular momentum |L| when they start near zero):
     energy, Mz, M3 and Kovalevskaya's integral where the trajectory carries them (an exact
     Lagrange trajectory: computed from its angles and rates); for a play top, Jellett's
     integral and the energy balance E + dissipated. Exact zeros are drawn at ``floor``."""
     plt = _pyplot()
     if ax is None:
         _, ax = plt.subplots(figsize=(8, 4))
-    t = traj.t
-    cols = set(traj.columns)
-    series = []
-    if "jellett" in cols:
-        series.append(("Jellett's J", traj.jellett))
-        series.append(("E + dissipated", traj.energy + traj.dissipated))
-    else:
-        lag = _lagrange_columns(traj)
-        source = lag if lag is not None else {k: traj[k] for k, _ in _INVARIANTS if k in cols}
-        series = [(label, source[k]) for k, label in _INVARIANTS if k in source]
-    for i, (label, y) in enumerate(series):
-        y = np.asarray(y, dtype=float)
-        scale = abs(y[0]) if y[0] != 0 else max(np.abs(y).max(), 1e-300)
-        err = np.maximum(np.abs(y - y[0]) / scale, floor)
-        ax.plot(t, err, color=f"C{i}", lw=1.0, label=label)
+    from ._diagnostics import conserved, relative_drift
+
+    series = conserved(traj)
+    for i, (key, label, y, scale) in enumerate(series):
+        if key in ("Mz", "M3") and scale != abs(y[0]):
+            label += r" (against $|L|$)"
+        err = np.maximum(relative_drift(y, scale), floor)
+        ax.plot(traj.t, err, color=f"C{i}", lw=1.0, label=label)
     ax.set_yscale("log")
     ax.set_ylim(floor / 2, None)
     ax.set_xlabel("time t (s)")
-    ax.set_ylabel("relative drift |X(t) − X(0)| / |X(0)|")
+    ax.set_ylabel("relative drift |X(t) − X(0)| / |X(0)|  (1)")
+    ax.set_title(f"exact zeros drawn at {floor:g}", fontsize=8, loc="right")
     ax.grid(alpha=0.3, which="major")
     if series:
         ax.legend(loc="lower right", fontsize=8)

@@ -351,13 +351,17 @@ def _fail(message: str, code: int, command: str | None = None) -> int:
     return code
 
 
+# click >= 8.2 raises this for a bare `kreisel`; older versions print the help themselves
+_NO_ARGS = getattr(click.exceptions, "NoArgsIsHelpError", ())
+
+
 def main(argv=None) -> int:
     """The console script: runs the command line, returns the exit code."""
     argv = sys.argv[1:] if argv is None else list(argv)
     command = next((a for a in argv if not a.startswith("-")), None)
     try:
         rv = cli.main(args=argv, prog_name="kreisel", standalone_mode=False)
-    except click.exceptions.NoArgsIsHelpError as e:
+    except _NO_ARGS as e:
         click.echo(e.ctx.get_help() if e.ctx else str(e))
         return 0
     except click.UsageError as e:
@@ -369,6 +373,15 @@ def main(argv=None) -> int:
         return _fail(str(e), 2, command)
     except NumericalError as e:
         return _fail(str(e), 1, command)
+    except ModuleNotFoundError as e:
+        if e.name is None or e.name.split(".")[0] == "kreisel":
+            raise
+        return _fail(
+            f"this needs the package {e.name!r}, which is not installed: "
+            "pip install 'kreisel[cli]'",
+            1,
+            command,
+        )
     return rv if isinstance(rv, int) else 0
 
 

@@ -308,7 +308,7 @@ def sample(traj, frames: int = 60, *, model=None, t_start=None, t_stop=None) -> 
 class _Scene:
     """A matplotlib 3D scene whose artists are updated frame by frame."""
 
-    def __init__(self, model, frames: Frames, *, size_px=480, around=36, title=None):
+    def __init__(self, model, frames: Frames, *, size_px=480, around=36, title=None, trail=None):
         from .plot import _pyplot
 
         plt = _pyplot()
@@ -324,6 +324,7 @@ class _Scene:
         self.text = self.fig.text(0.5, 0.965, "", ha="center", va="center", fontsize=10)
         ax = self.ax
         self.play = frames.contact is not None
+        self.trail = (0.2 if self.play else 0.5) if trail is None else float(trail)
         # where the upper end of the axis is at every frame
         top_body = self.shape.centre + np.array([0.0, 0.0, self.shape.top])
         d = frames.dense if frames.dense is not None else frames
@@ -420,10 +421,8 @@ class _Scene:
         self.body.set_verts(list(quads))
         self.body.set_facecolor(colours)
         upto = int(np.searchsorted(self.dense_t, f.t[i], side="right"))
-        # a play top's trail: the last fifth of the span, or it hides the top
-        first = 0
-        if self.play:
-            first = int(np.searchsorted(self.dense_t, f.t[i] - 0.2 * np.ptp(f.t)))
+        # the trail covers the last part of the span only, or it hides the top
+        first = int(np.searchsorted(self.dense_t, f.t[i] - self.trail * np.ptp(f.t)))
         tr = self.trace[first:upto]
         if self.play:
             h = self.half
@@ -481,7 +480,7 @@ def _model_of(traj, model):
 
 
 def render(traj, *, frames=60, model=None, size_px=480, title=None, progress=None,
-           t_start=None, t_stop=None):  # fmt: skip
+           t_start=None, t_stop=None, trail=None):  # fmt: skip
     """The animation's frames as RGB images, a list of ``frames`` arrays (size_px, size_px, 3)
     of uint8.
 
@@ -499,10 +498,15 @@ def render(traj, *, frames=60, model=None, size_px=480, title=None, progress=Non
         Shown above the time.
     progress : callable, optional
         Called with 1 after each frame (e.g. a progress bar's ``update``).
+    t_start, t_stop : float, optional
+        The animated span (s); default: the whole trajectory.
+    trail : float, optional
+        How far back the traces reach, as a fraction of the span (default 0.5 on a pivot,
+        0.2 on the floor).
     """
     model = _model_of(traj, model)
     f = sample(traj, frames, model=model, t_start=t_start, t_stop=t_stop)
-    scene = _Scene(model, f, size_px=int(size_px), title=title)
+    scene = _Scene(model, f, size_px=int(size_px), title=title, trail=trail)
     try:
         images = []
         for i in range(len(f)):

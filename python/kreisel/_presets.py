@@ -21,9 +21,9 @@ _GYRO_RATE = 1.27734375
 # mass 6 mm off the centre (alpha = 0.3), C = 0.4 m rho^2, A = 0.8 C (gamma = 0.8).
 _TIPPE_C = 0.4 * 0.02 * 0.02**2
 # A toy top on a spherical tip: 100 g, centre of mass 3 cm above the tip's centre, C = 2e-5,
-# A = 1.6e-5 kg m^2 about the centre of mass, Coulomb friction mu = 0.3.
+# A = 1.6e-5 kg m^2 about the centre of mass, Coulomb friction mu = 0.05 (a smooth floor).
 _TIPPED = {"m": 0.1, "A": 1.6e-5, "C": 2.0e-5, "s": 0.03, "g": 9.81, "friction": "coulomb",
-           "mu": 0.3}  # fmt: skip
+           "mu": 0.05}  # fmt: skip
 
 
 @dataclass(frozen=True)
@@ -135,7 +135,7 @@ PRESETS = {
         ),
         Preset(
             "blunt",
-            "blunt tip: a toy top on a 1 cm ball tip (alpha 3), Coulomb mu 0.3; it rises upright",
+            "blunt tip: a toy top on a 1 cm ball tip (alpha 3), Coulomb mu 0.05: it rises upright",
             {"kind": "play", **_TIPPED, "rho": 0.01},
             {"theta": 0.3, "phi_dot": 6.5, "psi_dot": 300.0},
             {"t_end": 5.0},

@@ -619,7 +619,8 @@ def figure(traj, *, frames=60, model=None, around=24, t_start=None, t_stop=None,
         static.append(go.Mesh3d(x=[x0, x1, x1, x0], y=[y0, y0, y1, y1], z=[0, 0, 0, 0],
                                 i=[0, 0], j=[1, 2], k=[2, 3], color="rgb(225,225,214)",
                                 hoverinfo="skip", name="floor"))  # fmt: skip
-        zr = [0.0, 2 * half]
+        # the floor is wide where the top travels; z spans only the top's height
+        zr = [0.0, max(float(hi[2]) * 1.15, 0.1 * half)]
     else:
         static.append(go.Scatter3d(x=[0], y=[0], z=[0], mode="markers",
                                    marker=dict(size=4, color="black"), name="pivot"))  # fmt: skip
@@ -632,7 +633,7 @@ def figure(traj, *, frames=60, model=None, around=24, t_start=None, t_stop=None,
     ]
     duration = 80
     steps = [
-        dict(method="animate", label=f"{f.t[i]:.2f}",
+        dict(method="animate", label=f"{f.t[i]:.2f}" if i % max(1, len(f) // 6) == 0 else "",
              args=[[f"{i}"], dict(mode="immediate", frame=dict(duration=0, redraw=True))])
         for i in range(len(f))
     ]  # fmt: skip
@@ -640,9 +641,9 @@ def figure(traj, *, frames=60, model=None, around=24, t_start=None, t_stop=None,
     km = 1e3 if size < 0.5 else 1.0
     unit = "mm" if km > 1 else "m"
 
-    def ax(name, rng):
-        ticks = np.linspace(rng[0], rng[1], 5)
-        text = [f"{v * km:.0f}" if km > 1 else f"{v:.2f}" for v in ticks]
+    def ax(name, rng, n=5):
+        ticks = np.linspace(rng[0], rng[1], n)
+        text = [f"{round(v * km):d}" if km > 1 else f"{v + 0.0:.2f}" for v in ticks]
         return dict(title=f"{name} ({unit})", range=list(rng), tickvals=list(ticks), ticktext=text)
 
     fig.update_layout(
@@ -650,8 +651,9 @@ def figure(traj, *, frames=60, model=None, around=24, t_start=None, t_stop=None,
         scene=dict(
             xaxis=ax("x", (centre[0] - half, centre[0] + half)),
             yaxis=ax("y", (centre[1] - half, centre[1] + half)),
-            zaxis=ax("z", tuple(zr)),
-            aspectmode="cube",
+            zaxis=ax("z", tuple(zr), 3 if play else 5),
+            aspectmode="manual",
+            aspectratio=dict(x=1, y=1, z=max((zr[1] - zr[0]) / (2 * half), 0.15)),
         ),
         updatemenus=[
             dict(

@@ -278,3 +278,14 @@ def test_bad_input_exits_2_with_one_line(case, bad_files, tmp_path):
         assert needle in lines[0], lines[0]
     # nothing was written
     assert not (tmp_path / "o").exists()
+
+
+def test_the_readme_toml_example_runs(tmp_path):
+    import re
+
+    readme = (Path(__file__).resolve().parents[1] / "README.md").read_text()
+    (block,) = re.findall(r"```toml\n(.*?)```", readme, flags=re.S)
+    path = tmp_path / "top.toml"
+    path.write_text(block)
+    proc = kreisel("run", path, "--no-figures", "--out", tmp_path / "o")
+    assert "u rose through 0.9" in proc.stdout

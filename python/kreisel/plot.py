@@ -238,6 +238,8 @@ def rigid_time_series(traj, fig=None):
     ax.set_xlabel("time t (s)")
     for a in axes:
         a.grid(alpha=0.3)
+        # plain numbers: an offset ("1e-6+1.5708") is easy to misread
+        a.ticklabel_format(axis="y", useOffset=False)
     return fig
 
 

@@ -289,3 +289,12 @@ def test_the_readme_toml_example_runs(tmp_path):
     path.write_text(block)
     proc = kreisel("run", path, "--no-figures", "--out", tmp_path / "o")
     assert "u rose through 0.9" in proc.stdout
+
+
+def test_another_friction_law_takes_its_own_coefficient(tmp_path):
+    # the tippe preset is viscous with mu = 1 s/m; Coulomb's default is 0.3, none has none
+    for law, shown in (("coulomb", "Coulomb(mu=0.3)"), ("none", "Frictionless()")):
+        kreisel("play", "--preset", "tippe", "--friction", law, "--t-end", 0.2, "--no-figures",
+                "--out", tmp_path / law)  # fmt: skip
+        summary = json.loads((tmp_path / law / "summary.json").read_text())
+        assert f"friction={shown}" in summary["top"]["repr"]

@@ -103,7 +103,8 @@ def _check_fields(where: str, table: dict, allowed, what: str):
 
 def overlay(base: dict, over: dict) -> dict:
     """Tables ``over`` laid on ``base`` field by field (None leaves a field as it is). A state
-    given as a quaternion replaces one in Euler angles, and back."""
+    given as a quaternion replaces one in Euler angles, and back; a friction law given without
+    mu takes its own default coefficient."""
     out = {k: dict(v) for k, v in base.items()}
     for table, values in over.items():
         out.setdefault(table, {})
@@ -115,6 +116,9 @@ def overlay(base: dict, over: dict) -> dict:
                 out["state"] = {
                     k: v for k, v in out["state"].items() if k not in ("quaternion", "omega")
                 }
+        if table == "top" and "friction" in given and "mu" not in given:
+            # another law: the base's coefficient (other units, or none) does not carry over
+            out["top"].pop("mu", None)
         out[table].update(given)
     return out
 

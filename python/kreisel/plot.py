@@ -60,6 +60,10 @@ def axis_path_on_sphere(traj, ax=None, *, color="C0", label=None, sphere=True):
     ax.set_xlim(-lim, lim)
     ax.set_ylim(-lim, lim)
     ax.set_zlim(-lim, lim)
+    ticks = [-1.0, -0.5, 0.0, 0.5, 1.0]  # matplotlib's default crowds a small 3D box
+    ax.set_xticks(ticks)
+    ax.set_yticks(ticks)
+    ax.set_zticks(ticks)
     return ax
 
 

@@ -1,6 +1,6 @@
 """Figure: how well three integrators keep the energy and Mz of a heavy top over many periods.
 
-    python examples/invariant_drift.py [OUT.png]
+    python examples/invariant_drift.py [OUT_DIR | OUT.png]
 
 The Lagrange top I1 = 1, I3 = 0.5 kg m^2, m = 1 kg, l = 1 m, g = 1 m/s^2 from theta = 1 rad,
 theta_dot = 0.3, phi_dot = 0.7, psi_dot = 9 rad/s (nutation period 1.41 s) is integrated for
@@ -12,8 +12,8 @@ theta_dot = 0.3, phi_dot = 0.7, psi_dot = 9 rad/s (nutation period 1.41 s) is in
 * "dop853" at its default tolerances (rtol 1e-10, atol 1e-12): small errors that grow too.
 
 Each curve is the largest error within consecutive 2.5 s windows (~2 nutation periods), so
-that oscillations within a period do not blur the trend. Writes
-kreisel-out/invariant_drift.png unless a path is given.
+that oscillations within a period do not blur the trend. Writes invariant_drift.png into
+OUT_DIR (default kreisel-out/), or to OUT.png.
 """
 
 from __future__ import annotations
@@ -44,7 +44,9 @@ RUNS = (  # method, dt, label, colour
 
 def main(argv=None) -> pathlib.Path:
     argv = sys.argv[1:] if argv is None else argv
-    out = pathlib.Path(argv[0]) if argv else pathlib.Path("kreisel-out") / "invariant_drift.png"
+    out = pathlib.Path(argv[0]) if argv else pathlib.Path("kreisel-out")
+    if out.suffix != ".png":
+        out = out / "invariant_drift.png"
     out.parent.mkdir(parents=True, exist_ok=True)
 
     top = kreisel.LagrangeTop(**PARAMS)

@@ -9,9 +9,10 @@ import pytest
 README = pathlib.Path(__file__).resolve().parents[1] / "README.md"
 
 
-def test_readme_tour_runs(monkeypatch):
+def test_readme_tour_runs(monkeypatch, tmp_path):
     pytest.importorskip("matplotlib")
     monkeypatch.setenv("MPLBACKEND", "Agg")
+    monkeypatch.chdir(tmp_path)  # the tour writes files
     import matplotlib
 
     matplotlib.use("Agg")

@@ -1,124 +1,388 @@
-"""The ``kreisel`` command line."""
+"""The ``kreisel`` command line (click).
+
+Bad input (an unknown field or flag, a value out of range, malformed TOML, an unknown
+preset) ends with exit code 2 and one line on stderr that names the field and what is
+allowed; a computation that fails ends with exit code 1 and one line.
+"""
 
 from __future__ import annotations
 
-import argparse
 import sys
 from pathlib import Path
 
+import click
 
-def _demo(out: Path) -> int:
-    import numpy as np
+from ._config import FRICTIONS, known_presets
+from ._errors import NumericalError, ParameterError
+from ._run import ANIMATIONS, FORMATS
 
-    from . import LagrangeTop
+_CONTEXT = {"help_option_names": ["-h", "--help"], "max_content_width": 100}
 
-    out.mkdir(parents=True, exist_ok=True)
-    # A toy top: 100 g, centre of mass 4 cm above the tip, spun at 400 rad/s (about 64 Hz).
-    top = LagrangeTop(I1=1.75e-4, I3=2.0e-5, m=0.1, l=0.04, g=9.81)
-    theta0, spin = 0.6, 300.0
-    print(f"kreisel demo: {top!r}")
-    print(f"  sleeping threshold: omega3 > {top.sleeping_threshold():.2f} rad/s")
-    rates = top.steady_precession(theta0, spin)
-    print(f"  steady precession at theta = {theta0} rad, omega3 = {spin} rad/s:")
-    for r in rates:
-        w = top.nutation_frequency(theta0, spin, r)
-        print(f"    Omega = {r:10.4f} rad/s, small nutations at {w:9.3f} rad/s")
-    cases = {
-        "waves": top.state(theta0, phi_dot=0.3 * rates[0], psi_dot=spin),
-        "cusps": top.state(theta0, psi_dot=spin),
-        "loops": top.state(theta0, phi_dot=-0.5 * rates[0], psi_dot=spin),
-    }
-    rows = []
-    for name, st in cases.items():
-        a = top.analyse(st)
-        inv = top.invariants(st)
-        rows.append((name, st, a))
-        print(f"  start {name}: {st}")
-        print(f"    E = {inv.E:.6g} J, Mz = {inv.Mz:.6g}, M3 = {inv.M3:.6g} kg m^2/s")
-        print(
-            f"    kind {a.kind}; theta in [{a.theta_min:.5f}, {a.theta_max:.5f}] rad; "
-            f"nutation period {a.nutation_period:.5f} s; "
-            f"mean precession {a.mean_precession_rate:.5f} rad/s"
+
+def _opt(name, dest, help, **kw):
+    return click.option(name, dest, default=None, help=help, show_default=False, **kw)
+
+
+def _apply(f, options):
+    for o in reversed(options):
+        f = o(f)
+    return f
+
+
+def _euler_options(f):
+    return _apply(f, [
+        _opt("--theta", "theta", "nutation angle from the upward vertical (rad), in [0, pi]",
+             type=float),
+        _opt("--phi", "phi", "precession angle (rad) [0]", type=float),
+        _opt("--psi", "psi", "spin angle (rad) [0]", type=float),
+        _opt("--theta-dot", "theta_dot", "nutation rate (rad/s) [0]", type=float),
+        _opt("--phi-dot", "phi_dot", "precession rate (rad/s) [0]", type=float),
+        _opt("--psi-dot", "psi_dot", "spin rate (rad/s) [0]", type=float),
+    ])  # fmt: skip
+
+
+def _run_options(f):
+    return _apply(f, [
+        _opt("--preset", "preset", f"start from a built-in top: {known_presets()}", type=str),
+        _opt("--t-end", "t_end", "duration (s) [2; play 5; a preset's own]", type=float),
+        _opt("--rtol", "rtol", "relative tolerance of dop853 [1e-10]", type=float),
+        _opt("--atol", "atol", "absolute tolerance of dop853 [1e-12]", type=float),
+        _opt("--samples", "samples", "output at this many equal time steps [every step; exact "
+             "2001]", type=int),
+        click.option("--out", type=click.Path(file_okay=False, path_type=Path), default=None,
+                     help="output folder [kreisel-out/<preset or kind>]"),
+        click.option("--format", "fmt", type=click.Choice(FORMATS), default="netcdf",
+                     show_default=True, help="trajectory file: NetCDF (xarray) or CSV"),
+        click.option("--animate", "animation", type=click.Choice(ANIMATIONS), default=None,
+                     help="also write an animation: GIF, MP4 or interactive HTML"),
+        click.option("--frames", type=click.IntRange(2, 5000), default=60, show_default=True,
+                     help="frames of the animation"),
+        click.option("--fps", type=click.FloatRange(0, 120, min_open=True), default=15.0,
+                     show_default=True, help="frames per second of the animation"),
+        click.option("--no-figures", is_flag=True, help="write no PNG figures"),
+    ])  # fmt: skip
+
+
+@click.group(context_settings=_CONTEXT)
+@click.version_option(package_name="kreisel", prog_name="kreisel", message="%(prog)s %(version)s")
+def cli():
+    """kreisel: the dynamics of spinning tops (SI units, radians).
+
+    Every command writes into --out a JSON summary, the trajectory (NetCDF or CSV), figures
+    and, with --animate, an animation. `kreisel demo` is a tour; `kreisel presets` lists the
+    built-in tops.
+    """
+
+
+@cli.command(context_settings=_CONTEXT)
+@click.option(
+    "--out",
+    type=click.Path(file_okay=False, path_type=Path),
+    default=Path("kreisel-out"),
+    show_default=True,
+    help="output folder",
+)
+@click.option("--no-animation", is_flag=True, help="skip the GIF of the tippe top")  # fmt: skip
+def demo(out, no_animation):
+    """A tour: built-in tops, figures, a GIF and report.md."""
+    from ._demo import DEMO_FRAMES, demo
+
+    if no_animation:
+        demo(out, animation=False)
+        return
+    with click.progressbar(length=DEMO_FRAMES, label="rendering the tippe top", file=sys.stderr,
+                           show_eta=False) as bar:  # fmt: skip
+        demo(out, animation=True, progress=bar.update)
+
+
+@cli.command(context_settings=_CONTEXT)
+@click.option("--toml", "as_toml", metavar="NAME", default=None,
+              help="print this preset as a TOML file for `kreisel run`")  # fmt: skip
+def presets(as_toml):
+    """List the built-in tops (for --preset NAME)."""
+    from ._config import preset
+    from ._presets import PRESETS
+
+    if as_toml is not None:
+        click.echo(_to_toml(as_toml, preset(as_toml)), nl=False)
+        return
+    width = max(len(n) for n in PRESETS)
+    for name, p in PRESETS.items():
+        click.echo(f"{name:<{width}}  {p.kind:<8}  {p.summary}")
+
+
+@cli.command(context_settings=_CONTEXT)
+@_run_options
+@_opt("--method", "method", "integrate instead of the exact solution: dop853, rk4, splitting, "
+      "splitting4, splitting6, verlet, midpoint, gauss4", type=str)  # fmt: skip
+@click.option("--exact", is_flag=True, help="the exact solution (the default without --method)")
+@_opt("--dt", "dt", "step (s) of a fixed-step method", type=float)
+@_euler_options
+@_opt("--I1", "I1", "moment about the pivot, perpendicular to the axis (kg m^2)", type=float)
+@_opt("--I3", "I3", "moment about the figure axis (kg m^2)", type=float)
+@_opt("--m", "m", "mass (kg), > 0", type=float)
+@_opt("--l", "l", "pivot to centre of mass along the axis (m)", type=float)
+@_opt("--g", "g", "gravitational acceleration (m/s^2) [9.81]", type=float)
+def lagrange(**kw):
+    """Symmetric top on a pivot: exact solution, analysis."""
+    exact = kw.pop("exact")
+    top = _take(kw, "I1", "I3", "m", "l", "g")
+    sim = _take(kw, "t_end", "method", "rtol", "atol", "dt", "samples")
+    sim["exact"] = True if exact else None
+    _go("lagrange", top, _take(kw, *_EULER), sim, kw)
+
+
+@cli.command(context_settings=_CONTEXT)
+@_run_options
+@_opt("--method", "method", "dop853 [default], rk4, splitting, splitting4, splitting6, verlet, "
+      "midpoint, gauss4", type=str)  # fmt: skip
+@_opt("--dt", "dt", "step (s) of a fixed-step method", type=float)
+@_opt("--quaternion", "quaternion", "orientation (w x y z), instead of Euler angles", nargs=4,
+      type=float)  # fmt: skip
+@_opt("--omega", "omega", "body angular velocity (rad/s), with --quaternion", nargs=3, type=float)
+@_euler_options
+@_opt("--I1", "I1", "principal moment about body axis 1 at the pivot (kg m^2)", type=float)
+@_opt("--I2", "I2", "principal moment about body axis 2 (kg m^2)", type=float)
+@_opt("--I3", "I3", "principal moment about body axis 3 (kg m^2)", type=float)
+@_opt("--m", "m", "mass (kg), > 0", type=float)
+@_opt("--com", "com", "centre of mass in the body frame from the pivot (m): X Y Z", nargs=3,
+      type=float)  # fmt: skip
+@_opt("--g", "g", "gravitational acceleration (m/s^2) [9.81]", type=float)
+def heavy(**kw):
+    """Any rigid body on a pivot, integrated."""
+    top = _take(kw, "I1", "I2", "I3", "m", "com", "g")
+    state = _take(kw, *_EULER, "quaternion", "omega")
+    for table, k in ((top, "com"), (state, "quaternion"), (state, "omega")):
+        if table.get(k) is not None:
+            table[k] = list(table[k])
+    sim = _take(kw, "t_end", "method", "rtol", "atol", "dt", "samples")
+    _go("heavy", top, state, sim, kw)
+
+
+@cli.command(context_settings=_CONTEXT)
+@_run_options
+@_opt("--vx", "vx", "horizontal velocity of the centre of mass, x (m/s) [0]", type=float)
+@_opt("--vy", "vy", "horizontal velocity of the centre of mass, y (m/s) [0]", type=float)
+@_opt("--height", "height", "drop from this gap between tip and floor (m) [in contact]",
+      type=float)  # fmt: skip
+@_euler_options
+@_opt("--m", "m", "mass (kg), > 0", type=float)
+@_opt("--A", "A", "equatorial moment about the centre of mass (kg m^2)", type=float)
+@_opt("--C", "C", "axial moment (kg m^2), 0 < C <= 2 A", type=float)
+@_opt("--s", "s", "tip-sphere centre to centre of mass (m), >= 0", type=float)
+@_opt("--rho", "rho", "radius of the tip sphere (m), > 0", type=float)
+@_opt("--g", "g", "gravitational acceleration (m/s^2) [9.81]", type=float)
+@_opt("--friction", "friction", "contact law [coulomb]", type=click.Choice(FRICTIONS))
+@_opt("--mu", "mu", "friction coefficient (Coulomb: 1; viscous: s/m) [0.3; viscous 1]",
+      type=float)  # fmt: skip
+@_opt("--restitution", "restitution", "of impacts after a flight, in [0, 1] [0]", type=float)
+@_opt("--rolling-resistance", "rolling_resistance", "rolling loss length (m) [0]", type=float)
+@_opt("--drilling-resistance", "drilling_resistance", "drilling loss length (m) [0]",
+      type=float)  # fmt: skip
+@_opt("--air-drag", "air_drag", "air torque per rad/s (N m s) [0]", type=float)
+def play(**kw):
+    """Top with a spherical tip on a floor (tippe top)."""
+    top = _take(kw, "m", "A", "C", "s", "rho", "g", "friction", "mu", "restitution",
+                "rolling_resistance", "drilling_resistance", "air_drag")  # fmt: skip
+    state = _take(kw, *_EULER, "vx", "vy", "height")
+    sim = _take(kw, "t_end", "rtol", "atol", "samples")
+    _go("play", top, state, sim, kw)
+
+
+@cli.command(context_settings=_CONTEXT)
+@click.argument("file", type=click.Path(exists=True, dir_okay=False, path_type=Path))
+@click.option(
+    "--out",
+    type=click.Path(file_okay=False, path_type=Path),
+    default=None,
+    help="output folder [kreisel-out/<file name>]",
+)
+@click.option(
+    "--format",
+    "fmt",
+    type=click.Choice(FORMATS),
+    default="netcdf",
+    show_default=True,
+    help="trajectory file: NetCDF (xarray) or CSV",
+)
+@click.option(
+    "--animate",
+    "animation",
+    type=click.Choice(ANIMATIONS),
+    default=None,
+    help="also write an animation: GIF, MP4 or interactive HTML",
+)
+@click.option(
+    "--frames",
+    type=click.IntRange(2, 5000),
+    default=60,
+    show_default=True,
+    help="frames of the animation",
+)
+@click.option(
+    "--fps",
+    type=click.FloatRange(0, 120, min_open=True),
+    default=15.0,
+    show_default=True,
+    help="frames per second of the animation",
+)
+@click.option("--no-figures", is_flag=True, help="write no PNG figures")  # fmt: skip
+def run(file, **kw):
+    """Run the top a TOML file describes.
+
+    \b
+    [top]          kind = "lagrange" | "heavy" | "play", its parameters (or preset = NAME)
+    [state]        theta, phi, psi, theta_dot, phi_dot, psi_dot (heavy: or quaternion,
+                   omega; play: also vx, vy, height)
+    [simulation]   t_end, method or exact, rtol, atol, dt, samples
+    `kreisel presets --toml NAME` prints a preset as such a file.
+    """
+    from ._config import from_tables, read_toml
+
+    tables = read_toml(file)
+    problem = from_tables(tables, prefix="table", source=file.name)
+    out = kw.pop("out") or Path("kreisel-out") / file.stem
+    _execute(problem, out, **kw)
+
+
+_EULER = ("theta", "phi", "psi", "theta_dot", "phi_dot", "psi_dot")
+
+
+def _take(kw: dict, *names) -> dict:
+    return {n: kw.pop(n) for n in names if n in kw}
+
+
+def _go(kind: str, top: dict, state: dict, sim: dict, kw: dict):
+    from ._config import from_tables, overlay, preset
+
+    name = kw.pop("preset")
+    if name is not None:
+        base = preset(name)
+        if base["top"]["kind"] != kind:
+            raise ParameterError(
+                f"preset = {name!r} is not allowed here: it is a {base['top']['kind']} top; "
+                f"use `kreisel {base['top']['kind']} --preset {name}`"
+            )
+    else:
+        base = {"top": {"kind": kind}, "state": {}, "simulation": {}}
+    tables = overlay(base, {"top": top, "state": state, "simulation": sim})
+    problem = from_tables(tables)
+    problem.preset = name
+    out = kw.pop("out") or Path("kreisel-out") / (name or kind)
+    _execute(problem, out, **kw)
+
+
+def _execute(problem, out: Path, *, fmt, animation, frames, fps, no_figures):
+    from ._run import run, work_units
+
+    units = work_units(problem.kind, not no_figures, animation, frames)
+    with click.progressbar(length=units, label=f"kreisel {problem.kind}", file=sys.stderr,
+                           show_eta=False, item_show_func=lambda s: s) as bar:  # fmt: skip
+
+        def progress(n, label):
+            bar.update(n, label)
+
+        data = run(problem, out, fmt=fmt, figures=not no_figures, animation=animation,
+                   frames=frames, fps=fps, progress=progress)  # fmt: skip
+    _report(problem, data, out)
+
+
+def _report(problem, data: dict, out: Path):
+    res = data["result"]
+    a = data.get("analysis", {})
+    click.echo(f"{data['top']['repr']}")
+    click.echo(f"  from {data['state']['repr']}")
+    sim = data["simulation"]
+    click.echo(f"  {sim['solver']} to t = {sim['t_end']:g} s: {res['samples']} samples")
+    if problem.kind == "lagrange":
+        click.echo(
+            f"  motion: {a['motion']}; theta in [{a['theta_min']:.5f}, {a['theta_max']:.5f}] rad;"
+            f" nutation period {_num(a['nutation_period'])} s;"
+            f" mean precession {_num(a['mean_precession_rate'])} rad/s"
         )
-    from . import plot
-
-    plt = plot._pyplot()
-    fig = plt.figure(figsize=(13, 8.5))
-    for i, (_name, st, a) in enumerate(rows):
-        ax = fig.add_subplot(2, 3, i + 1, projection="3d")
-        # One revolution of the mean precession.
-        t = np.linspace(0.0, 2.0 * np.pi / abs(a.mean_precession_rate), 6000)
-        traj = top.exact(st, t)
-        plot.axis_path_on_sphere(traj, ax=ax, color=f"C{i}")
-        ax.set_title(f"{a.kind}: tip of the figure axis")
-        ax.view_init(elev=40, azim=-60)
-        ax2 = fig.add_subplot(2, 3, i + 4)
-        plot.axis_path_plan(traj, ax=ax2, color=f"C{i}")
-        ax2.set_title(f"{a.kind}, seen from above (one precession turn)")
-    fig.tight_layout()
-    path = out / "lagrange_axis_paths.png"
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    fig, ax = plt.subplots(figsize=(6, 4))
-    plot.effective_potential(top, cases["cusps"], ax=ax)
-    ax.set_title("Effective potential, cusp start")
-    fig.tight_layout()
-    path2 = out / "lagrange_effective_potential.png"
-    fig.savefig(path2, dpi=110)
-    plt.close(fig)
-    print(f"wrote {path} and {path2}")
-    _demo_tippe(out)
-    return 0
+    elif problem.kind == "heavy":
+        click.echo(f"  kind: {a['kind']}")
+    else:
+        inv = res.get("inversion_time")
+        click.echo(
+            f"  alpha = {a['alpha']:.4g}, gamma = {a['gamma']:.4g}"
+            + (" (a tippe top)" if a["tippe_top"] else "")
+            + f"; final u = {res['final']['u']:.5f} ({res['final']['mode']})"
+            + (f"; u rose through 0.9 at t = {inv:.4f} s" if inv is not None else "")
+        )
+    drift = ", ".join(f"{k} {v:.1e}" for k, v in res["invariant_drift"].items())
+    if drift:
+        click.echo(f"  largest relative drift: {drift}")
+    files = data["files"]
+    listed = [files["summary"], files["trajectory"], *files.get("figures", [])]
+    if "animation" in files:
+        listed.append(files["animation"])
+    click.echo(f"wrote {out}/: {', '.join(listed)}")
 
 
-def _demo_tippe(out: Path) -> None:
-    import numpy as np
+def _num(x):
+    return x if isinstance(x, str) else f"{x:.6g}"
 
-    from . import PlayTop, Viscous, events, plot, simulate
 
-    # BENCHMARKS case T1: a tippe top (alpha = 0.3, gamma = 0.8) spun at 150 rad/s near hanging.
-    m, rho, s = 0.02, 0.02, 0.006
-    c = 0.4 * m * rho**2
-    pt = PlayTop(m=m, A=0.8 * c, C=c, s=s, rho=rho, friction=Viscous(mu=1.0))
-    st = pt.state(theta=np.pi - 0.1, psi_dot=150.0)
-    tr = simulate(pt, st, 8.0, rtol=1e-9, events=[events.inversion(0.9)])
-    inv = [e.t for e in tr.events if e.name == "inversion"]
-    drift = np.abs(tr.jellett / tr.jellett[0] - 1).max()
-    print(f"kreisel demo: {pt!r}")
-    print(
-        f"  alpha = {pt.alpha:.3g}, gamma = {pt.gamma:.3g}: a tippe top "
-        "(1 - alpha < gamma < 1 + alpha)"
-    )
-    print(
-        f"  spun at 150 rad/s from u = {tr.u[0]:.4f}: u rises through 0.9 at t = "
-        f"{inv[0] if inv else float('nan'):.3f} s, ends at u = {tr.u[-1]:.5f} ({tr.mode[-1]})"
-    )
-    print(
-        f"  Jellett's integral kept to {drift:.1e} (relative); energy {tr.energy[0]:.5g} J -> "
-        f"{tr.energy[-1]:.5g} J, dissipated {tr.dissipated[-1]:.5g} J"
-    )
-    plt = plot._pyplot()
-    fig = plot.play_time_series(tr)
-    fig.suptitle("Tippe top turning over (viscous friction; slip shaded)")
-    fig.tight_layout()
-    path = out / "tippe_top.png"
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    print(f"wrote {path}")
+def _to_toml(name: str, tables: dict) -> str:
+    from ._presets import PRESETS
+
+    def value(v):
+        if isinstance(v, str):
+            return '"' + v.replace("\\", "\\\\").replace('"', '\\"') + '"'
+        if isinstance(v, bool):
+            return "true" if v else "false"
+        if isinstance(v, (list, tuple)):
+            return "[" + ", ".join(value(x) for x in v) + "]"
+        return repr(v)
+
+    lines = [f"# {PRESETS[name].summary}", "# kreisel run FILE.toml", ""]
+    for table in ("top", "state", "simulation"):
+        lines.append(f"[{table}]")
+        lines += [f"{k} = {value(v)}" for k, v in tables[table].items()]
+        lines.append("")
+    return "\n".join(lines)
+
+
+def _fail(message: str, code: int, command: str | None = None) -> int:
+    line = " ".join(str(message).split())
+    where = f"kreisel {command}" if command else "kreisel"
+    print(f"{where}: error: {line}", file=sys.stderr)
+    return code
+
+
+# click >= 8.2 raises this for a bare `kreisel`; older versions print the help themselves
+_NO_ARGS = getattr(click.exceptions, "NoArgsIsHelpError", ())
 
 
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(prog="kreisel", description="Dynamics of spinning tops.")
-    from . import __version__
-
-    parser.add_argument("--version", action="version", version=f"kreisel {__version__}")
-    sub = parser.add_subparsers(dest="command", required=True)
-    demo = sub.add_parser("demo", help="analyse built-in tops and write figures")
-    demo.add_argument("--out", type=Path, default=Path("kreisel-out"), help="output folder")
-    args = parser.parse_args(argv)
-    if args.command == "demo":
-        return _demo(args.out)
-    return 2  # pragma: no cover
+    """The console script: runs the command line, returns the exit code."""
+    argv = sys.argv[1:] if argv is None else list(argv)
+    command = next((a for a in argv if not a.startswith("-")), None)
+    try:
+        rv = cli.main(args=argv, prog_name="kreisel", standalone_mode=False)
+    except _NO_ARGS as e:
+        click.echo(e.ctx.get_help() if e.ctx else str(e))
+        return 0
+    except click.UsageError as e:
+        hint = f" (see `{e.ctx.command_path} --help`)" if e.ctx is not None else ""
+        return _fail(e.format_message() + hint, 2, command if command in cli.commands else None)
+    except click.Abort:
+        return _fail("aborted", 1, command)
+    except ParameterError as e:
+        return _fail(str(e), 2, command)
+    except NumericalError as e:
+        return _fail(str(e), 1, command)
+    except ModuleNotFoundError as e:
+        if e.name is None or e.name.split(".")[0] == "kreisel":
+            raise
+        return _fail(
+            f"this needs the package {e.name!r}, which is not installed: "
+            "pip install 'kreisel[cli]'",
+            1,
+            command,
+        )
+    return rv if isinstance(rv, int) else 0
 
 
 if __name__ == "__main__":

@@ -153,6 +153,19 @@ class HeavyTop(_Rigid):
             f"m={self._m!r}, com=[{c}], g={self._g!r})"
         )
 
+    def _repr_html_(self) -> str:
+        from ._html import table
+
+        c = ", ".join(f"{x:.6g}" for x in self._com)
+        rows = [
+            ("I1, I2, I3", ", ".join(f"{x:.6g}" for x in self._I), "kg m²",
+             "principal moments about the pivot"),
+            ("m", self._m, "kg", "mass"),
+            ("com", f"[{c}]", "m", "centre of mass, body frame, from the pivot"),
+            ("g", self._g, "m/s²", "gravitational acceleration"),
+        ]  # fmt: skip
+        return table(f"Heavy top (kind: {self.kind})", repr(self), rows)
+
     def __eq__(self, other) -> bool:
         return isinstance(other, HeavyTop) and repr(self) == repr(other)
 

@@ -54,6 +54,19 @@ class LagrangeTop(_Rigid):
             f"l={self._l!r}, g={self._g!r})"
         )
 
+    def _repr_html_(self) -> str:
+        from ._html import table
+
+        rows = [
+            ("I1", self._I1, "kg m²", "transverse moment about the pivot"),
+            ("I3", self._I3, "kg m²", "axial moment"),
+            ("m", self._m, "kg", "mass"),
+            ("l", self._l, "m", "pivot to centre of mass"),
+            ("g", self._g, "m/s²", "gravitational acceleration"),
+        ]
+        notes = [f"sleeping threshold: ω3 > {self.sleeping_threshold():.6g} rad/s"]
+        return table("Lagrange top (heavy symmetric top on a pivot)", repr(self), rows, notes)
+
     def __eq__(self, other) -> bool:
         return isinstance(other, LagrangeTop) and repr(self) == repr(other)
 

@@ -185,6 +185,30 @@ class PlayTop:
             f"rho={p['rho']!r}, g={p['g']!r}, friction={self._friction!r}{extra})"
         )
 
+    def _repr_html_(self) -> str:
+        from ._html import table
+
+        p = self._p
+        rows = [
+            ("m", p["m"], "kg", "mass"),
+            ("A", p["A"], "kg m²", "equatorial moment about the centre of mass"),
+            ("C", p["C"], "kg m²", "axial moment"),
+            ("s", p["s"], "m", "tip-sphere centre to centre of mass"),
+            ("rho", p["rho"], "m", "radius of the tip sphere"),
+            ("g", p["g"], "m/s²", "gravitational acceleration"),
+            ("friction", repr(self._friction), "", "contact law (Coulomb mu 1, Viscous s/m)"),
+            ("restitution", p["restitution"], "1", "of impacts after a flight"),
+            ("rolling_resistance", p["rolling_resistance"], "m", "rolling loss length"),
+            ("drilling_resistance", p["drilling_resistance"], "m", "drilling loss length"),
+            ("air_drag", p["air_drag"], "N m s", "air torque per rad/s"),
+        ]
+        tippe = 1 - self.alpha < self.gamma < 1 + self.alpha
+        notes = [
+            f"alpha = s/rho = {self.alpha:.6g}, gamma = A/C = {self.gamma:.6g}"
+            + (" (a tippe top: 1 - alpha < gamma < 1 + alpha)" if tippe else "")
+        ]
+        return table("Play top (spherical tip on a plane)", repr(self), rows, notes)
+
     def state(
         self,
         theta,

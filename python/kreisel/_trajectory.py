@@ -2,7 +2,46 @@
 
 from __future__ import annotations
 
+import html
+
 import numpy as np
+
+# Units and meanings of the columns kreisel's trajectories carry (SI; angles in rad).
+COLUMNS = {
+    "t": ("s", "time"),
+    "theta": ("rad", "nutation angle from the upward vertical"),
+    "phi": ("rad", "precession angle (unwrapped)"),
+    "psi": ("rad", "spin angle (unwrapped)"),
+    "theta_dot": ("rad/s", "nutation rate"),
+    "phi_dot": ("rad/s", "precession rate"),
+    "psi_dot": ("rad/s", "spin rate"),
+    "quaternion": ("1", "orientation (w, x, y, z), body to space"),
+    "omega": ("rad/s", "angular velocity, body frame"),
+    "energy": ("J", "total energy"),
+    "Mz": ("kg m^2/s", "vertical angular momentum"),
+    "M3": ("kg m^2/s", "axial angular momentum"),
+    "kovalevskaya": ("kg^2 m^4 s^-4", "Kovalevskaya's integral"),
+    "com": ("m", "centre of mass, space frame"),
+    "com_velocity": ("m/s", "velocity of the centre of mass"),
+    "dissipated": ("J", "energy dissipated so far"),
+    "u": ("1", "cos(theta); 1 upright"),
+    "contact_point": ("m", "contact point on the floor, space frame"),
+    "slip_velocity": ("m/s", "slip velocity of the contact point"),
+    "slip_speed": ("m/s", "slip speed"),
+    "normal_force": ("N", "normal force of the floor"),
+    "jellett": ("kg m^2/s", "Jellett's integral"),
+    "mode": ("", "contact mode: slip, roll or flight"),
+    "energy_translation": ("J", "translational kinetic energy"),
+    "energy_rotation": ("J", "rotational kinetic energy"),
+    "energy_potential": ("J", "potential energy m g z_G"),
+}
+
+# Names of the second axis of 2-D columns.
+_COMPONENTS = {
+    "quaternion": ("component", ("w", "x", "y", "z")),
+    "omega": ("body_axis", ("1", "2", "3")),
+}
+_SPACE = ("space_axis", ("x", "y", "z"))
 
 
 class Trajectory:
@@ -51,6 +90,97 @@ class Trajectory:
     def to_dict(self) -> dict[str, np.ndarray]:
         """The columns as a dict of arrays."""
         return dict(self._cols)
+
+    def _meta_attrs(self) -> dict[str, str]:
+        out = {}
+        for key in ("model", "state", "method"):
+            if key in self._meta:
+                out[key] = str(self._meta[key])
+        return out
+
+    def to_xarray(self):
+        """The trajectory as an :class:`xarray.Dataset` on the dimension ``t`` (s).
+
+        2-D columns get a second dimension: ``component`` (w, x, y, z) for the quaternion,
+        ``body_axis`` (1, 2, 3) for omega, ``space_axis`` (x, y, z) for positions and
+        velocities. Every variable carries ``units`` and ``long_name``; the model, the state
+        and the method are attributes of the dataset. Needs xarray (``pip install xarray``).
+        """
+        import xarray as xr
+
+        t = self._cols["t"]
+        data = {}
+        for name, col in self._cols.items():
+            if name == "t":
+                continue
+            col = np.asarray(col)
+            if col.ndim == 1:
+                dims = ("t",)
+            else:
+                dims = ("t", _COMPONENTS.get(name, _SPACE)[0])
+            if col.dtype.kind == "U":
+                col = col.astype(str)
+            units, meaning = COLUMNS.get(name, ("", name))
+            data[name] = xr.Variable(dims, col, attrs={"units": units, "long_name": meaning})
+        coords = {"t": ("t", t, {"units": "s", "long_name": "time"})}
+        for name, col in self._cols.items():
+            if np.ndim(col) == 2:
+                dim, labels = _COMPONENTS.get(name, _SPACE)
+                coords[dim] = (dim, list(labels))
+        return xr.Dataset(data, coords=coords, attrs=self._meta_attrs())
+
+    def to_pandas(self):
+        """The trajectory as a :class:`pandas.DataFrame` indexed by ``t`` (s); 2-D columns are
+        split into one column each (``quaternion_w``, ``omega_1``, ``com_x``, ...). Needs
+        pandas."""
+        import pandas as pd
+
+        flat = {}
+        for name, col in self._cols.items():
+            if name == "t":
+                continue
+            col = np.asarray(col)
+            if col.ndim == 1:
+                flat[name] = col
+            else:
+                for j, label in enumerate(_COMPONENTS.get(name, _SPACE)[1]):
+                    flat[f"{name}_{label}"] = col[:, j]
+        return pd.DataFrame(flat, index=pd.Index(self._cols["t"], name="t"))
+
+    def _repr_html_(self) -> str:
+        t = self._cols["t"]
+        rows = []
+        for name, col in self._cols.items():
+            col = np.asarray(col)
+            units, meaning = COLUMNS.get(name, ("", ""))
+            if col.dtype.kind in "fi" and col.size:
+                rng = f"{np.nanmin(col):.6g} … {np.nanmax(col):.6g}"
+            elif col.dtype.kind == "U" and col.size:
+                rng = ", ".join(sorted(set(col.tolist())))
+            else:
+                rng = ""
+            shape = "×".join(str(n) for n in col.shape)
+            rows.append(
+                f"<tr><td><code>{html.escape(name)}</code></td><td>{shape}</td>"
+                f"<td>{html.escape(units)}</td><td>{html.escape(rng)}</td>"
+                f"<td>{html.escape(meaning)}</td></tr>"
+            )
+        span = f"t from {t.min():.6g} s to {t.max():.6g} s" if len(t) else "empty"
+        head = f"<b>Trajectory</b>: {len(t)} samples, {span}"
+        meta = "".join(
+            f"<br><small>{html.escape(k)}: <code>{html.escape(v)}</code></small>"
+            for k, v in self._meta_attrs().items()
+        )
+        events = self._meta.get("events") or []
+        if events:
+            shown = ", ".join(f"{e.name} at {e.t:.6g} s" for e in events[:8])
+            more = f" and {len(events) - 8} more" if len(events) > 8 else ""
+            meta += f"<br><small>events: {html.escape(shown)}{more}</small>"
+        return (
+            f"<div>{head}{meta}<table><thead><tr><th>column</th><th>shape</th><th>units</th>"
+            f"<th>range</th><th>meaning</th></tr></thead><tbody>{''.join(rows)}</tbody>"
+            "</table></div>"
+        )
 
     def __repr__(self) -> str:
         t = self._cols["t"]

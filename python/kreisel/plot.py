@@ -60,6 +60,10 @@ def axis_path_on_sphere(traj, ax=None, *, color="C0", label=None, sphere=True):
     ax.set_xlim(-lim, lim)
     ax.set_ylim(-lim, lim)
     ax.set_zlim(-lim, lim)
+    ticks = [-1.0, -0.5, 0.0, 0.5, 1.0]  # matplotlib's default crowds a small 3D box
+    ax.set_xticks(ticks)
+    ax.set_yticks(ticks)
+    ax.set_zticks(ticks)
     return ax
 
 
@@ -148,3 +152,187 @@ def play_time_series(traj, fig=None):
     for a in axes:
         a.grid(alpha=0.3)
     return fig
+
+
+# -- rigid tops: time series, the (phi, theta) plane, invariants ---------------------------
+
+
+def euler_rates(traj):
+    """(theta_dot, phi_dot, psi_dot) in rad/s of a rigid-top trajectory: its own columns when
+    it has them (exact Lagrange solution), else from the body angular velocity ``omega``.
+
+    From omega: ``theta_dot = w1 cos psi - w2 sin psi``, ``phi_dot = (w1 sin psi + w2 cos psi)
+    / sin theta``, ``psi_dot = w3 - phi_dot cos theta`` (z-x-z); phi_dot and psi_dot are nan
+    where sin theta < 1e-9 (Euler angles are singular at the vertical).
+    """
+    cols = traj.columns
+    if {"theta_dot", "phi_dot", "psi_dot"} <= set(cols):
+        return traj.theta_dot, traj.phi_dot, traj.psi_dot
+    w = np.asarray(traj.omega)
+    th, ps = np.asarray(traj.theta), np.asarray(traj.psi)
+    cp, sp = np.cos(ps), np.sin(ps)
+    st = np.sin(th)
+    theta_dot = w[:, 0] * cp - w[:, 1] * sp
+    with np.errstate(divide="ignore", invalid="ignore"):
+        phi_dot = np.where(np.abs(st) > 1e-9, (w[:, 0] * sp + w[:, 1] * cp) / st, np.nan)
+    psi_dot = w[:, 2] - phi_dot * np.cos(th)
+    return theta_dot, phi_dot, psi_dot
+
+
+def _lagrange_columns(traj):
+    from ._diagnostics import lagrange_columns
+
+    return lagrange_columns(traj)
+
+
+def _potential(traj):
+    """Potential energy m g z_G (J) of a rigid-top trajectory, or None."""
+    lag = _lagrange_columns(traj)
+    if lag is not None:
+        return lag["potential"]
+    model = getattr(traj, "model", None)
+    if model is None or "quaternion" not in traj.columns:
+        return None
+    from ._lagrange import LagrangeTop
+
+    com = np.array([0.0, 0.0, model.l]) if isinstance(model, LagrangeTop) else model.com
+    q = np.asarray(traj.quaternion)
+    w, x, y, z = q.T
+    # third row of the rotation matrix: the vertical component of R com
+    row = np.stack([2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)], axis=1)
+    return model.m * model.g * (row @ com)
+
+
+def rigid_time_series(traj, fig=None):
+    """Four panels over time for a top on a pivot: theta (rad); the nutation and precession
+    rates (rad/s); the spin rate psi_dot (rad/s); the energy and its potential and kinetic
+    parts (J).
+
+    ``traj`` is an exact Lagrange trajectory (``LagrangeTop.exact``) or a simulated one
+    (:func:`kreisel.simulate` on a LagrangeTop or HeavyTop).
+    """
+    plt = _pyplot()
+    if fig is None:
+        fig = plt.figure(figsize=(9, 8.5))
+    axes = fig.subplots(4, 1, sharex=True)
+    t = traj.t
+    theta_dot, phi_dot, psi_dot = euler_rates(traj)
+    axes[0].plot(t, traj.theta, color="C0", lw=1.0)
+    axes[0].set_ylabel(r"$\theta$ (rad)")
+    axes[1].plot(t, theta_dot, color="C1", lw=1.0, label=r"$\dot\theta$")
+    axes[1].plot(t, phi_dot, color="C2", lw=1.0, label=r"$\dot\phi$")
+    axes[1].set_ylabel("rates (rad/s)")
+    axes[1].legend(loc="upper right", fontsize=8)
+    axes[2].plot(t, psi_dot, color="C4", lw=1.0, label=r"$\dot\psi$")
+    if "omega" in traj.columns:
+        axes[2].plot(t, traj.omega[:, 2], color="k", lw=0.8, ls="--", label=r"$\omega_3$")
+    axes[2].set_ylabel("spin (rad/s)")
+    axes[2].legend(loc="upper right", fontsize=8)
+    lag = _lagrange_columns(traj)
+    energy = lag["energy"] if lag is not None else getattr(traj, "energy", None)
+    pot = _potential(traj)
+    ax = axes[3]
+    if energy is not None:
+        ax.plot(t, energy, color="C3", lw=1.0, label="energy E")
+        if pot is not None:
+            ax.plot(t, energy - pot, color="C1", lw=0.8, label="kinetic")
+            ax.plot(t, pot, color="C2", lw=0.8, label=r"potential $m g z_G$")
+        ax.legend(loc="center right", fontsize=8)
+    ax.set_ylabel("energy (J)")
+    ax.set_xlabel("time t (s)")
+    for a in axes:
+        a.grid(alpha=0.3)
+        # plain numbers: an offset ("1e-6+1.5708") is easy to misread
+        a.ticklabel_format(axis="y", useOffset=False)
+    return fig
+
+
+def axis_path_phi_theta(traj, ax=None, *, color="C0", label=None, turning_points=True):
+    """The path of the figure axis in the (phi, theta) plane: precession angle phi (rad,
+    unwrapped) across, theta (rad) down, so that a more upright axis is higher, as on the
+    sphere. Waves, cusps and loops show here as in the textbooks. For an exact Lagrange
+    trajectory the turning points are drawn as dotted lines."""
+    plt = _pyplot()
+    if ax is None:
+        _, ax = plt.subplots(figsize=(7, 4))
+    ax.plot(traj.phi, traj.theta, color=color, lw=1.0, label=label)
+    model = getattr(traj, "model", None)
+    state = getattr(traj, "state", None)
+    from ._lagrange import LagrangeTop
+    from ._state import EulerState
+
+    if turning_points and isinstance(model, LagrangeTop) and isinstance(state, EulerState):
+        for th in model.turning_points(state):
+            ax.axhline(th, color="0.5", ls=":", lw=1)
+    ax.invert_yaxis()
+    ax.set_xlabel(r"precession angle $\phi$ (rad)")
+    ax.set_ylabel(r"$\theta$ (rad from the vertical)")
+    ax.grid(alpha=0.3)
+    return ax
+
+
+def invariant_drift(traj, ax=None, *, floor=1e-17):
+    """Relative drift ``|X(t) - X(0)| / |X(0)|`` of the conserved quantities on a log scale
+    (Mz and M3 against the angular momentum |L| when they start near zero):
+    energy, Mz, M3 and Kovalevskaya's integral where the trajectory carries them (an exact
+    Lagrange trajectory: computed from its angles and rates); for a play top, Jellett's
+    integral and the energy balance E + dissipated. Exact zeros are drawn at ``floor``."""
+    plt = _pyplot()
+    if ax is None:
+        _, ax = plt.subplots(figsize=(8, 4))
+    from ._diagnostics import conserved, relative_drift
+
+    series = conserved(traj)
+    for i, (key, label, y, scale) in enumerate(series):
+        if key in ("Mz", "M3") and scale != abs(y[0]):
+            label += r" (against $|L|$)"
+        err = np.maximum(relative_drift(y, scale), floor)
+        ax.plot(traj.t, err, color=f"C{i}", lw=1.0, label=label)
+    ax.set_yscale("log")
+    ax.set_ylim(floor / 2, None)
+    ax.set_xlabel("time t (s)")
+    ax.set_ylabel("relative drift |X(t) − X(0)| / |X(0)|  (1)")
+    ax.set_title(f"exact zeros drawn at {floor:g}", fontsize=8, loc="right")
+    ax.grid(alpha=0.3, which="major")
+    if series:
+        ax.legend(loc="lower right", fontsize=8)
+    return ax
+
+
+# -- the play top on the floor ----------------------------------------------------------------
+
+_TRACK_COLOURS = {"slip": "#c0701a", "roll": "#1f5fa8", "flight": "#2e8b3a"}
+
+
+def contact_track(traj, ax=None, *, unit="mm"):
+    """The contact point's track on the floor (top view) for a play-top trajectory, coloured by
+    contact mode (slip orange, roll blue, flight green: the point below the tip), with the
+    start and end marked and the centre of mass's track dashed. ``unit`` is "mm" or "m"."""
+    plt = _pyplot()
+    if ax is None:
+        _, ax = plt.subplots(figsize=(6, 6))
+    scale = {"mm": 1e3, "m": 1.0}[unit]
+    p = np.asarray(traj.contact_point)[:, :2] * scale
+    g = np.asarray(traj.com)[:, :2] * scale
+    mode = np.asarray(traj.mode)
+    ax.plot(g[:, 0], g[:, 1], color="0.6", lw=0.8, ls="--", label="centre of mass")
+    start = 0
+    seen = set()
+    n = len(mode)
+    for i in range(1, n + 1):
+        if i == n or mode[i] != mode[start]:
+            m = str(mode[start])
+            stop = min(i + 1, n)
+            ax.plot(p[start:stop, 0], p[start:stop, 1], color=_TRACK_COLOURS.get(m, "k"), lw=1.4,
+                    label=None if m in seen else f"contact, {m}")  # fmt: skip
+            seen.add(m)
+            start = i
+    if n:
+        ax.plot(*p[0], marker="o", color="k", ms=5, ls="none", label="start")
+        ax.plot(*p[-1], marker="s", color="k", ms=5, ls="none", label="end")
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.set_xlabel(f"x ({unit})")
+    ax.set_ylabel(f"y ({unit})")
+    ax.grid(alpha=0.3)
+    ax.legend(loc="best", fontsize=8)
+    return ax

@@ -1,0 +1,318 @@
+"""A top, a state and a simulation from plain tables (a TOML file, command-line flags or a
+preset), checked field by field: every mistake is one :class:`ParameterError` naming the
+table, the field and what is allowed."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ._errors import ParameterError
+from ._presets import PRESETS
+
+KINDS = ("lagrange", "heavy", "play")
+FRICTIONS = ("coulomb", "viscous", "none")
+_EULER = ("theta", "phi", "psi", "theta_dot", "phi_dot", "psi_dot")
+
+TOP_FIELDS = {
+    "lagrange": ("I1", "I3", "m", "l", "g"),
+    "heavy": ("I1", "I2", "I3", "m", "com", "g"),
+    "play": ("m", "A", "C", "s", "rho", "g", "friction", "mu", "restitution",
+             "rolling_resistance", "drilling_resistance", "air_drag"),
+}  # fmt: skip
+REQUIRED = {
+    "lagrange": ("I1", "I3", "m", "l"),
+    "heavy": ("I1", "I2", "I3", "m", "com"),
+    "play": ("m", "A", "C", "s", "rho"),
+}
+STATE_FIELDS = {
+    "lagrange": _EULER,
+    "heavy": (*_EULER, "quaternion", "omega"),
+    "play": (*_EULER, "vx", "vy", "height"),
+}
+SIMULATION_FIELDS = ("t_end", "method", "exact", "rtol", "atol", "dt", "samples")
+TABLES = ("top", "state", "simulation")
+DEFAULT_T_END = {"lagrange": 2.0, "heavy": 2.0, "play": 5.0}
+MAX_SAMPLES = 10_000_000
+
+
+def known_presets() -> str:
+    return ", ".join(PRESETS)
+
+
+def preset(name) -> dict:
+    """The tables of a built-in preset (copies)."""
+    if not isinstance(name, str) or name not in PRESETS:
+        raise ParameterError(f"preset = {name!r} is not known: known presets are {known_presets()}")
+    p = PRESETS[name]
+    return {"top": dict(p.top), "state": dict(p.state), "simulation": dict(p.simulation)}
+
+
+@dataclass
+class Settings:
+    """How to compute the motion."""
+
+    t_end: float
+    exact: bool = False
+    method: str = "dop853"
+    rtol: float = 1e-10
+    atol: float = 1e-12
+    dt: float | None = None
+    samples: int | None = None
+    extra: dict = field(default_factory=dict)
+
+    def as_dict(self) -> dict:
+        d = {"t_end": self.t_end, "solver": "exact" if self.exact else self.method}
+        if not self.exact:
+            d.update(rtol=self.rtol, atol=self.atol, dt=self.dt)
+        d["samples"] = self.samples
+        return d
+
+
+@dataclass
+class Problem:
+    """A validated top, state and settings."""
+
+    kind: str
+    model: object
+    state: object
+    settings: Settings
+    tables: dict
+    preset: str | None = None
+
+
+def _real(where: str, name: str, value) -> float:
+    from ._validate import real
+
+    try:
+        return real(name, value)
+    except ParameterError as e:
+        raise ParameterError(f"{where}{e}") from None
+
+
+def _check_fields(where: str, table: dict, allowed, what: str):
+    if not isinstance(table, dict):
+        raise ParameterError(f"{where} must be a table of fields, not {type(table).__name__}")
+    for key in table:
+        if key not in allowed:
+            raise ParameterError(
+                f"{where}{key} is not a known field {what}: allowed are {', '.join(allowed)}"
+            )
+
+
+def overlay(base: dict, over: dict) -> dict:
+    """Tables ``over`` laid on ``base`` field by field (None leaves a field as it is). A state
+    given as a quaternion replaces one in Euler angles, and back; a friction law given without
+    mu takes its own default coefficient."""
+    out = {k: dict(v) for k, v in base.items()}
+    for table, values in over.items():
+        out.setdefault(table, {})
+        given = {k: v for k, v in values.items() if v is not None}
+        if table == "state":
+            if any(k in given for k in ("quaternion", "omega")):
+                out["state"] = {k: v for k, v in out["state"].items() if k not in _EULER}
+            elif any(k in given for k in _EULER):
+                out["state"] = {
+                    k: v for k, v in out["state"].items() if k not in ("quaternion", "omega")
+                }
+        if table == "top" and "friction" in given and "mu" not in given:
+            # another law: the base's coefficient (other units, or none) does not carry over
+            out["top"].pop("mu", None)
+        out[table].update(given)
+    return out
+
+
+def from_tables(tables: dict, *, prefix: str = "", source: str = "") -> Problem:
+    """The problem that ``tables`` (``{"top": ..., "state": ..., "simulation": ...}``) describe.
+
+    ``prefix`` selects how fields are named in messages: ``"table"`` gives ``[top] m``, else
+    the bare field name (a flag of the same name). ``source`` (a file name) starts every
+    message.
+    """
+    head = f"{source}: " if source else ""
+    style_table = prefix == "table"
+
+    def where(table):
+        return f"{head}[{table}] " if style_table else head
+
+    for key in tables:
+        if key not in TABLES:
+            raise ParameterError(
+                f"{head}[{key}] is not a known table: allowed are [top], [state], [simulation]"
+            )
+    top = dict(tables.get("top", {}))
+    state = dict(tables.get("state", {}))
+    sim = dict(tables.get("simulation", {}))
+    for name, t in (("top", top), ("state", state), ("simulation", sim)):
+        if not isinstance(t, dict):
+            raise ParameterError(f"{head}[{name}] must be a table, not {type(t).__name__}")
+    chosen = top.pop("preset", None)
+    if chosen is not None:
+        base = preset(chosen)
+        if "kind" in top and top["kind"] != base["top"]["kind"]:
+            raise ParameterError(
+                f"{where('top')}kind = {top['kind']!r} is not allowed with preset = {chosen!r}, "
+                f"a {base['top']['kind']} top"
+            )
+        merged = overlay(base, {"top": top, "state": state, "simulation": sim})
+        top, state, sim = merged["top"], merged["state"], merged["simulation"]
+    kind = top.pop("kind", None)
+    if kind is None:
+        raise ParameterError(
+            f"{where('top')}kind is missing: give kind = one of {', '.join(KINDS)} (or a preset)"
+        )
+    if kind not in KINDS:
+        raise ParameterError(
+            f"{where('top')}kind = {kind!r} is not allowed: use one of {', '.join(KINDS)}"
+        )
+    _check_fields(where("top"), top, TOP_FIELDS[kind], f"of a {kind} top")
+    _check_fields(where("state"), state, STATE_FIELDS[kind], f"of a {kind} top's state")
+    _check_fields(where("simulation"), sim, SIMULATION_FIELDS, "of the simulation")
+    for name in REQUIRED[kind]:
+        if name not in top:
+            raise ParameterError(
+                f"{where('top')}{name} is missing: a {kind} top needs "
+                f"{', '.join(REQUIRED[kind])} (g defaults to 9.81 m/s^2)"
+            )
+    model = _model(kind, top, where("top"))
+    st = _state(kind, model, state, where("state"))
+    settings = _settings(kind, sim, where("simulation"))
+    tables_out = {"top": {"kind": kind, **top}, "state": state, "simulation": sim}
+    return Problem(kind, model, st, settings, tables_out, chosen)
+
+
+def _model(kind: str, top: dict, where: str):
+    import kreisel
+
+    try:
+        if kind == "lagrange":
+            return kreisel.LagrangeTop(**top)
+        if kind == "heavy":
+            return kreisel.HeavyTop(**top)
+        p = dict(top)
+        friction = p.pop("friction", "coulomb")
+        mu = p.pop("mu", None)
+        if friction not in FRICTIONS:
+            raise ParameterError(
+                f"friction = {friction!r} is not allowed: use one of {', '.join(FRICTIONS)}"
+            )
+        if friction == "none":
+            if mu is not None and mu != 0:
+                raise ParameterError(f"mu = {mu!r} is not allowed with friction = 'none'")
+            law = kreisel.Frictionless()
+        elif friction == "viscous":
+            law = kreisel.Viscous(mu=1.0 if mu is None else mu)
+        else:
+            law = kreisel.Coulomb(mu=0.3 if mu is None else mu)
+        return kreisel.PlayTop(friction=law, **p)
+    except ParameterError as e:
+        raise ParameterError(f"{where}{e}") from None
+
+
+def _state(kind: str, model, state: dict, where: str):
+    try:
+        if kind == "heavy" and ("quaternion" in state or "omega" in state):
+            mixed = [k for k in _EULER if k in state]
+            if mixed:
+                raise ParameterError(
+                    f"{mixed[0]} is not allowed with quaternion and omega: give Euler angles "
+                    "and rates, or a quaternion and omega, not both"
+                )
+            for k in ("quaternion", "omega"):
+                if k not in state:
+                    raise ParameterError(f"{k} is missing: quaternion and omega go together")
+            return model.state_from_quaternion(state["quaternion"], state["omega"])
+        if "theta" not in state:
+            raise ParameterError(
+                "theta is missing: the state needs theta (rad) and optionally "
+                + ", ".join(k for k in STATE_FIELDS[kind] if k != "theta")
+            )
+        return model.state(**state)
+    except ParameterError as e:
+        raise ParameterError(f"{where}{e}") from None
+
+
+def _settings(kind: str, sim: dict, where: str) -> Settings:
+    from ._simulate import methods
+
+    try:
+        t_end = _real("", "t_end", sim.get("t_end", DEFAULT_T_END[kind]))
+        if not t_end > 0:
+            raise ParameterError(f"t_end = {t_end} is not allowed: it must be > 0 s")
+        exact = sim.get("exact", False)
+        if not isinstance(exact, bool):
+            raise ParameterError(f"exact = {exact!r} is not allowed: it must be true or false")
+        method = sim.get("method")
+        if exact and kind != "lagrange":
+            raise ParameterError(
+                "exact = true is not allowed: only a lagrange top has an exact solution"
+            )
+        if exact and method is not None:
+            raise ParameterError(
+                f"method = {method!r} is not allowed with exact = true: choose one of the two"
+            )
+        if kind == "lagrange" and method is None:
+            exact = True
+        names = [m.name for m in methods()]
+        if method is None:
+            method = "dop853"
+        if method not in names:
+            raise ParameterError(
+                f"method = {method!r} is not allowed: known methods are {', '.join(names)}"
+            )
+        if kind == "play" and method != "dop853":
+            raise ParameterError(
+                f"method = {method!r} is not allowed for a play top: it needs 'dop853'"
+            )
+        info = {m.name: m for m in methods()}[method]
+        rtol = _real("", "rtol", sim.get("rtol", 1e-10))
+        atol = _real("", "atol", sim.get("atol", 1e-12))
+        if not 1e-15 <= rtol < 1:
+            raise ParameterError(f"rtol = {rtol} is not allowed: it must lie in [1e-15, 1)")
+        if not atol > 0:
+            raise ParameterError(f"atol = {atol} is not allowed: it must be > 0")
+        dt = sim.get("dt")
+        if dt is not None:
+            dt = _real("", "dt", dt)
+            if not 0 < dt <= t_end:
+                raise ParameterError(f"dt = {dt} is not allowed: it must lie in (0, t_end]")
+        if not exact and not info.adaptive and dt is None:
+            raise ParameterError(
+                f"dt is missing: method {method!r} takes fixed steps; give dt (s), e.g. 1e-4"
+            )
+        if not exact and not info.adaptive and t_end / dt > 2e7:
+            raise ParameterError(
+                f"dt = {dt} is not allowed: t_end / dt = {t_end / dt:.3g} steps, more than 2e7"
+            )
+        samples = sim.get("samples")
+        if samples is None and exact:
+            samples = 2001
+        if samples is not None:
+            if isinstance(samples, bool) or not isinstance(samples, (int, np.integer)):
+                raise ParameterError(f"samples = {samples!r} is not allowed: it must be an integer")
+            if not 2 <= samples <= MAX_SAMPLES:
+                raise ParameterError(
+                    f"samples = {samples} is not allowed: it must lie in [2, {MAX_SAMPLES}]"
+                )
+            samples = int(samples)
+    except ParameterError as e:
+        raise ParameterError(f"{where}{e}") from None
+    return Settings(t_end, exact, method, rtol, atol, dt, samples)
+
+
+def read_toml(path) -> dict:
+    """The tables of a TOML file; a malformed file is a ParameterError with the line."""
+    import sys
+
+    if sys.version_info >= (3, 11):
+        import tomllib
+    else:  # pragma: no cover
+        import tomli as tomllib
+    try:
+        with open(path, "rb") as fh:
+            return tomllib.load(fh)
+    except tomllib.TOMLDecodeError as e:
+        raise ParameterError(f"{path} is not valid TOML: {e}") from None
+    except (OSError, UnicodeDecodeError) as e:
+        raise ParameterError(f"{path} cannot be read: {e}") from None

@@ -1,0 +1,191 @@
+"""``kreisel demo``: a tour of built-in tops that writes figures, an animation and a short
+Markdown report."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+DEMO_FRAMES = 60
+
+
+def demo(out: Path, *, animation: bool = True, progress=None) -> Path:
+    """Analyses built-in tops, writes figures, a GIF of a tippe top and report.md into
+    ``out``; returns the report's path."""
+    import numpy as np
+
+    from . import LagrangeTop
+
+    out.mkdir(parents=True, exist_ok=True)
+    # A toy top: 100 g, centre of mass 4 cm above the tip, spun at 400 rad/s (about 64 Hz).
+    top = LagrangeTop(I1=1.75e-4, I3=2.0e-5, m=0.1, l=0.04, g=9.81)
+    theta0, spin = 0.6, 300.0
+    print(f"kreisel demo: {top!r}")
+    print(f"  sleeping threshold: omega3 > {top.sleeping_threshold():.2f} rad/s")
+    rates = top.steady_precession(theta0, spin)
+    print(f"  steady precession at theta = {theta0} rad, omega3 = {spin} rad/s:")
+    for r in rates:
+        w = top.nutation_frequency(theta0, spin, r)
+        print(f"    Omega = {r:10.4f} rad/s, small nutations at {w:9.3f} rad/s")
+    cases = {
+        "waves": top.state(theta0, phi_dot=0.3 * rates[0], psi_dot=spin),
+        "cusps": top.state(theta0, psi_dot=spin),
+        "loops": top.state(theta0, phi_dot=-0.5 * rates[0], psi_dot=spin),
+    }
+    rows = []
+    for name, st in cases.items():
+        a = top.analyse(st)
+        inv = top.invariants(st)
+        rows.append((name, st, a))
+        print(f"  start {name}: {st}")
+        print(f"    E = {inv.E:.6g} J, Mz = {inv.Mz:.6g}, M3 = {inv.M3:.6g} kg m^2/s")
+        print(
+            f"    kind {a.kind}; theta in [{a.theta_min:.5f}, {a.theta_max:.5f}] rad; "
+            f"nutation period {a.nutation_period:.5f} s; "
+            f"mean precession {a.mean_precession_rate:.5f} rad/s"
+        )
+    from . import plot
+
+    plt = plot._pyplot()
+    fig = plt.figure(figsize=(13, 8.5))
+    for i, (_name, st, a) in enumerate(rows):
+        ax = fig.add_subplot(2, 3, i + 1, projection="3d")
+        # One revolution of the mean precession.
+        t = np.linspace(0.0, 2.0 * np.pi / abs(a.mean_precession_rate), 6000)
+        traj = top.exact(st, t)
+        plot.axis_path_on_sphere(traj, ax=ax, color=f"C{i}")
+        ax.set_title(f"{a.kind}: tip of the figure axis")
+        ax.view_init(elev=40, azim=-60)
+        ax2 = fig.add_subplot(2, 3, i + 4)
+        plot.axis_path_plan(traj, ax=ax2, color=f"C{i}")
+        ax2.set_title(f"{a.kind}, seen from above (one precession turn)")
+    fig.tight_layout()
+    path = out / "lagrange_axis_paths.png"
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    fig, ax = plt.subplots(figsize=(6, 4))
+    plot.effective_potential(top, cases["cusps"], ax=ax)
+    ax.set_title("Effective potential, cusp start")
+    fig.tight_layout()
+    path2 = out / "lagrange_effective_potential.png"
+    fig.savefig(path2, dpi=110)
+    plt.close(fig)
+    print(f"wrote {path} and {path2}")
+    tippe = _demo_tippe(out, animation=animation, progress=progress)
+    report = _report(out, top, rows, tippe)
+    print(f"wrote {report}")
+    return report
+
+
+def _demo_tippe(out: Path, *, animation: bool, progress) -> dict:
+    import numpy as np
+
+    from . import PlayTop, Viscous, events, plot, simulate
+
+    # BENCHMARKS case T1: a tippe top (alpha = 0.3, gamma = 0.8) spun at 150 rad/s near hanging.
+    m, rho, s = 0.02, 0.02, 0.006
+    c = 0.4 * m * rho**2
+    pt = PlayTop(m=m, A=0.8 * c, C=c, s=s, rho=rho, friction=Viscous(mu=1.0))
+    st = pt.state(theta=np.pi - 0.1, psi_dot=150.0)
+    tr = simulate(pt, st, 8.0, rtol=1e-9, events=[events.inversion(0.9)])
+    inv = [e.t for e in tr.events if e.name == "inversion"]
+    drift = np.abs(tr.jellett / tr.jellett[0] - 1).max()
+    print(f"kreisel demo: {pt!r}")
+    print(
+        f"  alpha = {pt.alpha:.3g}, gamma = {pt.gamma:.3g}: a tippe top "
+        "(1 - alpha < gamma < 1 + alpha)"
+    )
+    print(
+        f"  spun at 150 rad/s from u = {tr.u[0]:.4f}: u rises through 0.9 at t = "
+        f"{inv[0] if inv else float('nan'):.3f} s, ends at u = {tr.u[-1]:.5f} ({tr.mode[-1]})"
+    )
+    print(
+        f"  Jellett's integral kept to {drift:.1e} (relative); energy {tr.energy[0]:.5g} J -> "
+        f"{tr.energy[-1]:.5g} J, dissipated {tr.dissipated[-1]:.5g} J"
+    )
+    plt = plot._pyplot()
+    fig = plot.play_time_series(tr)
+    fig.suptitle("Tippe top turning over (viscous friction; slip shaded)")
+    fig.tight_layout()
+    path = out / "tippe_top.png"
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    fig, ax = plt.subplots(figsize=(6.5, 6.5))
+    plot.contact_track(tr, ax=ax)
+    ax.set_title("Tippe top: the contact point's track on the floor")
+    fig.tight_layout()
+    track = out / "tippe_track.png"
+    fig.savefig(track, dpi=100)
+    plt.close(fig)
+    print(f"wrote {path} and {track}")
+    gif = None
+    if animation:
+        from . import animate
+
+        gif = out / "tippe_top.gif"
+        # 60 frames over the first 4 s: the turn over happens there
+        animate.to_gif(tr, gif, frames=DEMO_FRAMES, fps=12, t_stop=4.0, title="tippe top",
+                       progress=progress)  # fmt: skip
+        print(f"wrote {gif}")
+    return {
+        "model": pt, "traj": tr, "inversion": inv[0] if inv else None, "drift": drift,
+        "figure": path.name, "track": track.name, "gif": gif.name if gif else None,
+    }  # fmt: skip
+
+
+def _report(out: Path, top, rows, tippe) -> Path:
+    from . import __version__
+
+    lines = [
+        "# kreisel demo",
+        "",
+        f"Written by kreisel {__version__}. SI units, angles in radians.",
+        "",
+        "## The Lagrange top, solved exactly",
+        "",
+        f"`{top!r}`: sleeping threshold omega3 > {top.sleeping_threshold():.2f} rad/s.",
+        "",
+        "| start | kind | theta_min (rad) | theta_max (rad) | nutation period (s) "
+        "| mean precession (rad/s) |",
+        "|---|---|---|---|---|---|",
+    ]
+    for name, _st, a in rows:
+        lines.append(
+            f"| {name} | {a.kind} | {a.theta_min:.5f} | {a.theta_max:.5f} "
+            f"| {a.nutation_period:.5f} | {a.mean_precession_rate:.5f} |"
+        )
+    lines += [
+        "",
+        "![The figure axis's tip: waves, cusps and loops](lagrange_axis_paths.png)",
+        "",
+        "![Effective potential of the cusp start](lagrange_effective_potential.png)",
+        "",
+        "## A tippe top turning over",
+        "",
+        f"`{tippe['model']!r}`",
+        "",
+    ]
+    tr = tippe["traj"]
+    inv = tippe["inversion"]
+    lines += [
+        f"- u = cos(theta) rises through 0.9 at t = {inv:.3f} s" if inv is not None
+        else "- it does not turn over within the run",
+        f"- final u = {tr.u[-1]:.5f}, mode {tr.mode[-1]}",
+        f"- Jellett's integral kept to {tippe['drift']:.1e} (relative)",
+        f"- energy {tr.energy[0]:.5g} J -> {tr.energy[-1]:.5g} J, dissipated "
+        f"{tr.dissipated[-1]:.5g} J",
+        "",
+    ]  # fmt: skip
+    if tippe["gif"]:
+        lines += [f"![The tippe top turning over (first 4 s)]({tippe['gif']})", ""]
+    lines += [
+        f"![Time series, contact modes shaded]({tippe['figure']})",
+        "",
+        f"![The contact point's track on the floor]({tippe['track']})",
+        "",
+        "More: `kreisel presets`, `kreisel play --preset tippe --animate mp4`, "
+        "`kreisel run top.toml`.",
+        "",
+    ]
+    path = out / "report.md"
+    path.write_text("\n".join(lines))
+    return path

@@ -1,0 +1,152 @@
+"""Built-in tops for the command line (``--preset NAME``, ``kreisel presets``).
+
+Each preset is what a ``kreisel run`` TOML file holds: a ``[top]`` table (with its kind), a
+``[state]`` and a ``[simulation]`` table, in SI units and radians.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+# The toy top of the demo and the README: 100 g, centre of mass 4 cm above the tip, a disc of
+# radius 2 cm (I3 = m R^2 / 2); sleeping threshold 262 rad/s.
+_TOY = {"I1": 1.75e-4, "I3": 2.0e-5, "m": 0.1, "l": 0.04, "g": 9.81}
+# slow steady precession of the toy top at theta = 0.6 rad, omega3 = 300 rad/s (rad/s)
+_TOY_SLOW = 8.131813622444362
+# A gyroscope: a 200 g rotor disc of radius 3.2 cm (I3 = m R^2/2) 4 cm from the pivot along
+# its axle (I1 = m R^2/4 + m l^2); steady precession at theta = pi/2 with omega3 = 600 rad/s.
+_GYRO = {"I1": 3.712e-4, "I3": 1.024e-4, "m": 0.2, "l": 0.04, "g": 9.81}
+_GYRO_RATE = 1.27734375
+# The tippe top of the demo and BENCHMARKS case T1: a 20 g ball of radius 2 cm, centre of
+# mass 6 mm off the centre (alpha = 0.3), C = 0.4 m rho^2, A = 0.8 C (gamma = 0.8).
+_TIPPE_C = 0.4 * 0.02 * 0.02**2
+# A toy top on a spherical tip: 100 g, centre of mass 3 cm above the tip's centre, C = 2e-5,
+# A = 1.6e-5 kg m^2 about the centre of mass, Coulomb friction mu = 0.05 (a smooth floor).
+_TIPPED = {"m": 0.1, "A": 1.6e-5, "C": 2.0e-5, "s": 0.03, "g": 9.81, "friction": "coulomb",
+           "mu": 0.05}  # fmt: skip
+
+
+@dataclass(frozen=True)
+class Preset:
+    """A built-in top: its name, one line of what it is, and its three tables."""
+
+    name: str
+    summary: str
+    top: dict
+    state: dict
+    simulation: dict = field(default_factory=dict)
+
+    @property
+    def kind(self) -> str:
+        return self.top["kind"]
+
+
+PRESETS = {
+    p.name: p
+    for p in (
+        Preset(
+            "toy",
+            "toy top: 100 g, c.o.m. 4 cm above the tip, spun at 400 rad/s, released at 0.5 rad",
+            {"kind": "lagrange", **_TOY},
+            {"theta": 0.5, "psi_dot": 400.0},
+            {"t_end": 2.0},
+        ),
+        Preset(
+            "gyroscope",
+            "gyroscope: 200 g rotor 4 cm out on a horizontal axle, 600 rad/s, steady precession",
+            {"kind": "lagrange", **_GYRO},
+            {"theta": 1.5707963267948966, "phi_dot": _GYRO_RATE, "psi_dot": 600.0},
+            {"t_end": 5.0},
+        ),
+        Preset(
+            "sleeping",
+            "sleeping top: the toy top at 400 rad/s (> 262 rad/s) released 3 deg off vertical",
+            {"kind": "lagrange", **_TOY},
+            {"theta": 0.05, "psi_dot": 400.0},
+            {"t_end": 2.0},
+        ),
+        Preset(
+            "waves",
+            "nutation in waves: the toy top at 0.6 rad, 300 rad/s, pushed along its precession",
+            {"kind": "lagrange", **_TOY},
+            {"theta": 0.6, "phi_dot": round(0.3 * _TOY_SLOW, 4), "psi_dot": 300.0},
+            {"t_end": 1.0},
+        ),
+        Preset(
+            "cusps",
+            "nutation in cusps: the toy top released at rest at 0.6 rad, spun at 300 rad/s",
+            {"kind": "lagrange", **_TOY},
+            {"theta": 0.6, "psi_dot": 300.0},
+            {"t_end": 1.0},
+        ),
+        Preset(
+            "loops",
+            "nutation in loops: the toy top at 0.6 rad, 300 rad/s, pushed against its precession",
+            {"kind": "lagrange", **_TOY},
+            {"theta": 0.6, "phi_dot": round(-0.5 * _TOY_SLOW, 4), "psi_dot": 300.0},
+            {"t_end": 1.0},
+        ),
+        Preset(
+            "kovalevskaya",
+            "Kovalevskaya top: I1 = I2 = 2 I3, pivot 2 cm from the c.o.m. in its equator plane",
+            {
+                "kind": "heavy",
+                "I1": 2e-3,
+                "I2": 2e-3,
+                "I3": 1e-3,
+                "m": 0.5,
+                "com": [0.02, 0.0, 0.0],
+                "g": 9.81,
+            },  # fmt: skip
+            {"quaternion": [1.0, 0.2, 0.0, 0.0], "omega": [1.0, -2.0, 3.0]},
+            {"t_end": 20.0, "method": "dop853"},
+        ),
+        Preset(
+            "tippe",
+            "tippe top: 20 g ball, r = 2 cm, alpha 0.3, gamma 0.8, spun at 150 rad/s; turns over",
+            {
+                "kind": "play",
+                "m": 0.02,
+                "A": 0.8 * _TIPPE_C,
+                "C": _TIPPE_C,
+                "s": 0.006,
+                "rho": 0.02,
+                "g": 9.81,
+                "friction": "viscous",
+                "mu": 1.0,
+            },  # fmt: skip
+            {"theta": 3.0415926535897933, "psi_dot": 150.0},
+            {"t_end": 8.0, "rtol": 1e-9},
+        ),
+        Preset(
+            "rate-gyro",
+            "rate gyro: 150 g rotor balanced to 1 mm, 2000 rad/s: its axis drifts at 7 mrad/s",
+            {
+                "kind": "heavy",
+                "I1": 6e-5,
+                "I2": 6e-5,
+                "I3": 1e-4,
+                "m": 0.15,
+                "com": [0.0, 0.0, 0.001],
+                "g": 9.81,
+            },  # fmt: skip
+            {"theta": 1.5707963267948966, "psi_dot": 2000.0},
+            # 0.2 s: a hundred nutations (1.9 ms each), sampled 20 times each
+            {"t_end": 0.2, "method": "splitting4", "dt": 1e-5, "samples": 4001},
+        ),
+        Preset(
+            "blunt",
+            "blunt tip: a toy top on a 1 cm ball tip (alpha 3), Coulomb mu 0.05: it rises upright",
+            {"kind": "play", **_TIPPED, "rho": 0.01},
+            {"theta": 0.3, "phi_dot": 6.5, "psi_dot": 300.0},
+            {"t_end": 5.0},
+        ),
+        Preset(
+            "pointed",
+            "pointed tip: the same top on a 0.5 mm tip (alpha 60), precessing like a Lagrange top",
+            {"kind": "play", **_TIPPED, "rho": 0.0005},
+            {"theta": 0.3, "phi_dot": 6.5, "psi_dot": 300.0},
+            {"t_end": 5.0},
+        ),
+    )
+}

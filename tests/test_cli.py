@@ -1,0 +1,300 @@
+"""The command line as a user drives it: subprocesses of the installed ``kreisel`` script.
+
+Every output file is opened with an independent reader (xarray for NetCDF, pandas for CSV,
+Pillow for PNG, imageio for GIF and MP4); every bad input ends with exit code 2 and one line
+on stderr that names the field.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+SCRIPT = Path(sys.executable).with_name("kreisel")
+KREISEL = [str(SCRIPT)] if SCRIPT.exists() else [sys.executable, "-m", "kreisel"]
+ENV = {**os.environ, "MPLBACKEND": "Agg"}
+
+
+def kreisel(*args, cwd=None, check=True):
+    proc = subprocess.run(
+        [*KREISEL, *map(str, args)], capture_output=True, text=True, cwd=cwd, env=ENV, timeout=300
+    )
+    if check and proc.returncode != 0:
+        raise AssertionError(f"kreisel {args} exited {proc.returncode}:\n{proc.stderr}")
+    return proc
+
+
+def png_ok(path: Path):
+    from PIL import Image
+
+    with Image.open(path) as im:
+        im.load()
+        assert im.format == "PNG"
+        assert im.width >= 400 and im.height >= 300, (path, im.size)
+
+
+def gif_frames(path: Path) -> int:
+    import imageio.v3 as iio
+
+    return iio.imread(path, index=None).shape[0]
+
+
+def mp4_frames(path: Path) -> int:
+    """Frames decoded by the ffmpeg that imageio-ffmpeg ships (each of the full size)."""
+    import gc
+    import warnings
+
+    import imageio_ffmpeg
+
+    # imageio-ffmpeg leaves its pipe to ffmpeg for the garbage collector to close
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ResourceWarning)
+        gen = imageio_ffmpeg.read_frames(str(path))
+        try:
+            meta = next(gen)
+            w, h = meta["size"]
+            sizes = [len(frame) for frame in gen]
+        finally:
+            gen.close()
+            del gen
+            gc.collect()
+    assert (w, h) == (480, 480) and set(sizes) == {w * h * 3}
+    return len(sizes)
+
+
+def test_demo_writes_its_report_figures_and_gif(tmp_path):
+    proc = kreisel("demo", "--out", tmp_path / "out")
+    out = tmp_path / "out"
+    expected = [
+        "lagrange_axis_paths.png",
+        "lagrange_effective_potential.png",
+        "tippe_top.png",
+        "tippe_track.png",
+        "tippe_top.gif",
+        "report.md",
+    ]
+    for name in expected:
+        assert (out / name).is_file(), name
+    assert f"wrote {out / 'report.md'}" in proc.stdout
+    report = (out / "report.md").read_text()
+    for name in expected[:-1]:
+        assert f"({name})" in report, f"report.md links {name}"
+        if name.endswith(".png"):
+            png_ok(out / name)
+    for kind in ("waves", "cusps", "loops"):
+        assert f"| {kind} | {kind} |" in report
+    assert gif_frames(out / "tippe_top.gif") == 60
+
+
+def test_lagrange_preset_writes_netcdf_summary_figures_and_gif(tmp_path):
+    import xarray as xr
+
+    out = tmp_path / "cusps"
+    proc = kreisel("lagrange", "--preset", "cusps", "--out", out, "--animate", "gif",
+                   "--frames", 8)  # fmt: skip
+    assert "motion: cusps" in proc.stdout
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["kind"] == "lagrange" and summary["preset"] == "cusps"
+    assert summary["analysis"]["motion"] == "cusps"
+    assert summary["simulation"]["solver"] == "exact"
+    # the exact solution keeps its integrals to round-off
+    assert max(summary["result"]["invariant_drift"].values()) < 1e-12
+    files = summary["files"]
+    assert files["trajectory"] == "trajectory.nc" and files["animation"] == "animation.gif"
+    with xr.open_dataset(out / "trajectory.nc", engine="scipy") as ds:
+        assert ds.sizes["t"] == 2001
+        assert ds["theta"].attrs["units"] == "rad"
+        theta = ds["theta"].values
+        assert theta.min() == pytest.approx(0.6, abs=1e-9)
+        assert theta.max() == pytest.approx(summary["analysis"]["theta_max"], abs=1e-6)
+        assert "LagrangeTop" in ds.attrs["model"]
+    for name in files["figures"]:
+        png_ok(out / name)
+    assert set(files["figures"]) == {
+        "time_series.png", "axis_path.png", "invariant_drift.png", "effective_potential.png"
+    }  # fmt: skip
+    assert gif_frames(out / "animation.gif") == 8
+
+
+def test_heavy_writes_csv_and_an_mp4_with_the_frames_asked_for(tmp_path):
+    import pandas as pd
+
+    out = tmp_path / "kov"
+    kreisel("heavy", "--preset", "kovalevskaya", "--t-end", 2, "--format", "csv",
+            "--animate", "mp4", "--frames", 12, "--out", out, "--samples", 201)  # fmt: skip
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["analysis"]["kind"] == "kovalevskaya"
+    assert set(summary["result"]["invariant_drift"]) == {"energy", "Mz", "kovalevskaya"}
+    df = pd.read_csv(out / "trajectory.csv", index_col="t")
+    assert len(df) == 201
+    q = df[["quaternion_w", "quaternion_x", "quaternion_y", "quaternion_z"]].to_numpy()
+    np.testing.assert_allclose(np.linalg.norm(q, axis=1), 1.0, atol=1e-12)
+    assert mp4_frames(out / "animation.mp4") == 12
+    for name in summary["files"]["figures"]:
+        png_ok(out / name)
+
+
+def test_play_writes_an_interactive_html_view(tmp_path):
+    out = tmp_path / "tippe"
+    proc = kreisel("play", "--preset", "tippe", "--t-end", 3, "--animate", "html",
+                   "--frames", 6, "--no-figures", "--out", out)  # fmt: skip
+    assert "(a tippe top)" in proc.stdout
+    summary = json.loads((out / "summary.json").read_text())
+    # BENCHMARKS case T1: u rises through 0.9 at 2.65 s (the demo's number)
+    assert summary["result"]["inversion_time"] == pytest.approx(2.65, abs=0.02)
+    assert "figures" not in summary["files"]
+    page = (out / "animation.html").read_text()
+    assert page.count('"name":"5"') + page.count('"name": "5"') >= 1  # the 6th frame
+    assert "plotly" in page.lower() and len(page) > 1_000_000  # plotly.js is inside
+
+
+def test_flags_alone_describe_a_top(tmp_path):
+    import xarray as xr
+
+    out = tmp_path / "flags"
+    kreisel("lagrange", "--I1", 1.0, "--I3", 0.5, "--m", 1.0, "--l", 0.3, "--g", 1.0,
+            "--theta", 1.0, "--theta-dot", 0.3, "--phi-dot", 0.7, "--psi-dot", 5.0,
+            "--method", "splitting", "--dt", 1e-3, "--t-end", 5, "--samples", 101,
+            "--no-figures", "--out", out)  # fmt: skip
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["simulation"]["solver"] == "splitting"
+    assert summary["analysis"]["motion"] == "loops"  # the top of the order tests
+    assert summary["result"]["invariant_drift"]["Mz"] < 1e-13  # the splitting keeps Mz
+    with xr.open_dataset(out / "trajectory.nc", engine="scipy") as ds:
+        assert ds.sizes["t"] == 101
+        assert ds.sizes["component"] == 4
+
+
+def test_a_preset_printed_as_toml_runs_the_same(tmp_path):
+    text = kreisel("presets", "--toml", "waves").stdout
+    path = tmp_path / "waves.toml"
+    path.write_text(text)
+    kreisel("run", path, "--no-figures", cwd=tmp_path)
+    summary = json.loads((tmp_path / "kreisel-out" / "waves" / "summary.json").read_text())
+    assert summary["analysis"]["motion"] == "waves"
+    assert summary["top"]["kind"] == "lagrange"
+
+
+def test_a_toml_file_overrides_a_preset(tmp_path):
+    path = tmp_path / "top.toml"
+    path.write_text('[top]\npreset = "gyroscope"\nm = 0.19\n\n[state]\npsi_dot = 900.0\n\n'
+                    '[simulation]\nt_end = 0.5\nsamples = 51\n')  # fmt: skip
+    kreisel("run", path, "--no-figures", "--out", tmp_path / "o")
+    summary = json.loads((tmp_path / "o" / "summary.json").read_text())
+    assert summary["top"]["m"] == 0.19 and summary["top"]["I3"] == 1.024e-4
+    assert summary["state"]["psi_dot"] == 900.0 and summary["state"]["theta"] > 1.5
+    assert summary["result"]["samples"] == 51
+
+
+def test_presets_lists_every_preset():
+    from kreisel._presets import PRESETS
+
+    out = kreisel("presets").stdout
+    for name in PRESETS:
+        assert name in out
+    assert len(PRESETS) >= 11
+
+
+@pytest.mark.parametrize("command", [[], ["demo"], ["presets"], ["lagrange"], ["heavy"],
+                                     ["play"], ["run"]])  # fmt: skip
+def test_every_command_has_help(command):
+    proc = kreisel(*command, "--help")
+    assert proc.stdout.startswith("Usage: kreisel")
+    assert proc.stderr == ""
+
+
+BAD = {
+    "unknown TOML field": (["run", "{bad_field}"], "mass"),
+    "unknown TOML table": (["run", "{bad_table}"], "[output]"),
+    "negative mass in TOML": (["run", "{negative_mass}"], "m = -0.1"),
+    "malformed TOML": (["run", "{malformed}"], "not valid TOML"),
+    "missing TOML file": (["run", "{missing}"], "does not exist"),
+    "unknown preset": (["lagrange", "--preset", "nope"], "known presets are"),
+    "preset of another kind": (["lagrange", "--preset", "tippe"], "kreisel play --preset tippe"),
+    "negative mass flag": (["play", "--preset", "tippe", "--m", "-1"], "m = -1"),
+    "missing parameter": (
+        ["heavy", "--I1", "1", "--I2", "1", "--I3", "1", "--m", "1", "--theta", "0.1"],
+        "com is missing",
+    ),  # fmt: skip
+    "not a number": (["play", "--preset", "tippe", "--mu", "abc"], "'--mu'"),
+    "unknown friction": (["play", "--preset", "tippe", "--friction", "glue"], "'coulomb'"),
+    "unknown flag": (["lagrange", "--preset", "toy", "--mass", "1"], "--mass"),
+    "unknown method": (
+        ["heavy", "--preset", "kovalevskaya", "--method", "euler"],
+        "known methods are",
+    ),  # fmt: skip
+    "fixed step without dt": (["lagrange", "--preset", "toy", "--method", "rk4"], "dt is missing"),
+    "exact and method": (
+        ["lagrange", "--preset", "toy", "--exact", "--method", "rk4"],
+        "exact",
+    ),  # fmt: skip
+    "theta out of range": (["lagrange", "--preset", "toy", "--theta", "4"], "theta = 4"),
+    "Euler and quaternion": (
+        ["heavy", "--preset", "kovalevskaya", "--theta", "0.3", "--quaternion", "1", "0", "0", "0"],
+        "not both",
+    ),  # fmt: skip
+    "negative duration": (["play", "--preset", "tippe", "--t-end", "-1"], "t_end"),
+    "too few frames": (["play", "--preset", "tippe", "--frames", "1"], "--frames"),
+    "unknown command": (["spin"], "spin"),
+}
+
+
+@pytest.fixture(scope="module")
+def bad_files(tmp_path_factory):
+    d = tmp_path_factory.mktemp("bad")
+    good = '[top]\nkind = "lagrange"\nI1 = 1.75e-4\nI3 = 2e-5\nm = 0.1\nl = 0.04\n'
+    files = {
+        "bad_field": good + "mass = 3\n[state]\ntheta = 0.5\n",
+        "bad_table": good + "[state]\ntheta = 0.5\n[output]\nformat = 'csv'\n",
+        "negative_mass": good.replace("m = 0.1", "m = -0.1") + "[state]\ntheta = 0.5\n",
+        "malformed": '[top]\nkind = "lagrange"\nI1 = \n',
+    }
+    paths = {}
+    for name, text in files.items():
+        paths[name] = d / f"{name}.toml"
+        paths[name].write_text(text)
+    paths["missing"] = d / "missing.toml"
+    return paths
+
+
+@pytest.mark.parametrize("case", list(BAD))
+def test_bad_input_exits_2_with_one_line(case, bad_files, tmp_path):
+    args, needle = BAD[case]
+    args = [a.format(**bad_files) for a in args]
+    proc = kreisel(*args, "--out", tmp_path / "o", check=False) if args[0] != "spin" else (
+        kreisel(*args, check=False))  # fmt: skip
+    assert proc.returncode == 2, proc.stderr
+    lines = proc.stderr.strip().splitlines()
+    assert len(lines) == 1, proc.stderr
+    assert lines[0].startswith("kreisel"), lines[0]
+    assert "Traceback" not in proc.stderr
+    if needle is not None:
+        assert needle in lines[0], lines[0]
+    # nothing was written
+    assert not (tmp_path / "o").exists()
+
+
+def test_the_readme_toml_example_runs(tmp_path):
+    import re
+
+    readme = (Path(__file__).resolve().parents[1] / "README.md").read_text()
+    (block,) = re.findall(r"```toml\n(.*?)```", readme, flags=re.S)
+    path = tmp_path / "top.toml"
+    path.write_text(block)
+    proc = kreisel("run", path, "--no-figures", "--out", tmp_path / "o")
+    assert "u rose through 0.9" in proc.stdout
+
+
+def test_another_friction_law_takes_its_own_coefficient(tmp_path):
+    # the tippe preset is viscous with mu = 1 s/m; Coulomb's default is 0.3, none has none
+    for law, shown in (("coulomb", "Coulomb(mu=0.3)"), ("none", "Frictionless()")):
+        kreisel("play", "--preset", "tippe", "--friction", law, "--t-end", 0.2, "--no-figures",
+                "--out", tmp_path / law)  # fmt: skip
+        summary = json.loads((tmp_path / law / "summary.json").read_text())
+        assert f"friction={shown}" in summary["top"]["repr"]

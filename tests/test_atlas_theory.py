@@ -452,3 +452,27 @@ def test_errors_name_the_argument():
         pt.frictionless_turning_points(dropped)
     with pytest.raises(kreisel.ParameterError, match="alpha"):
         _atlas.classify_alpha_gamma(0.0, 0.9)
+
+
+# --- figures --------------------------------------------------------------------------
+
+
+def test_figures_draw_with_labelled_axes():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    import kreisel.plot as kp
+
+    pt = play_top(0.3, 0.8)
+    for ax in (
+        kp.atlas(pt),
+        kp.atlas(),
+        kp.vertical_axis_diagram(pt),
+        kp.J_R_plot(pt, J=1.5 * pt.J_beta),
+        kp.J_R_plot(play_top(0.3, 1.5)),
+    ):
+        assert ax.get_xlabel() and ax.get_ylabel() and ax.get_title()
+        ax.figure.canvas.draw()
+    plt.close("all")

@@ -148,3 +148,6 @@ def play_time_series(traj, fig=None):
     for a in axes:
         a.grid(alpha=0.3)
     return fig
+
+
+from ._plot_atlas import J_R_plot, atlas, vertical_axis_diagram  # noqa: E402, F401

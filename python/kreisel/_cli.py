@@ -68,6 +68,7 @@ def _demo(out: Path) -> int:
     plt.close(fig)
     print(f"wrote {path} and {path2}")
     _demo_tippe(out)
+    _demo_atlas(out)
     return 0
 
 
@@ -102,6 +103,35 @@ def _demo_tippe(out: Path) -> None:
     fig.suptitle("Tippe top turning over (viscous friction; slip shaded)")
     fig.tight_layout()
     path = out / "tippe_top.png"
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    print(f"wrote {path}")
+
+
+def _demo_atlas(out: Path) -> None:
+    import numpy as np
+
+    from . import PlayTop, Viscous, plot
+
+    # The tippe top of _demo_tippe, placed in the (alpha, gamma) atlas.
+    m, rho, s = 0.02, 0.02, 0.006
+    c = 0.4 * m * rho**2
+    pt = PlayTop(m=m, A=0.8 * c, C=c, s=s, rho=rho, friction=Viscous(mu=1.0))
+    cl = pt.classify()
+    p = pt.predict(pt.state(theta=np.pi - 0.1, psi_dot=150.0))
+    end = p.ending
+    print(
+        f"kreisel demo: the tippe top lies in zone {cl.zone} (type {cl.type}, Fig. 3 area "
+        f"{cl.fig3}); spun at 150 rad/s near hanging it has J = {p.J:.4g} kg m^2/s and must "
+        f"end {end.kind if end else 'in one of several motions'}"
+        + (f" with omega3 = {end.omega3:.4g} rad/s" if end else "")
+    )
+    plt = plot._pyplot()
+    fig, axes = plt.subplots(1, 2, figsize=(16, 6.5), gridspec_kw={"width_ratios": [1.25, 1]})
+    plot.atlas(pt, ax=axes[0])
+    plot.J_R_plot(pt, J=p.J, ax=axes[1])
+    fig.tight_layout()
+    path = out / "atlas.png"
     fig.savefig(path, dpi=110)
     plt.close(fig)
     print(f"wrote {path}")

@@ -469,6 +469,7 @@ def test_figures_draw_with_labelled_axes():
     for ax in (
         kp.atlas(pt),
         kp.atlas(),
+        kp.atlas(play_top(0.03, 0.985), small_alpha=True),
         kp.vertical_axis_diagram(pt),
         kp.J_R_plot(pt, J=1.5 * pt.J_beta),
         kp.J_R_plot(play_top(0.3, 1.5)),

@@ -77,7 +77,7 @@ def _zone_bands(a, y_lo, y_hi):
     return bands
 
 
-def _draw_plane(ax, a_max, y_lo, y_hi, *, labels, legend):
+def _draw_plane(ax, a_max, y_lo, y_hi, *, legend):
     a = _alpha_grid(a_max)
     bands = _zone_bands(a, y_lo, y_hi)
     for z, (lo, hi) in bands.items():
@@ -114,20 +114,49 @@ def _mark_top(ax, pt, *, label=True):
             zorder=5, label=f"this top: zone {c.zone} ({c.type})" if label else None)  # fmt: skip
 
 
-def atlas(pt=None, ax=None, *, alpha_max=1.2, gamma_range=(0.4, 2.3), inset=True):
+SMALL_ALPHA = (0.08, (0.72, 1.01))  # the enlarged region of zones 3 and 8: alpha, gamma
+
+
+def _small_alpha_panel(ax, pt, *, main):
+    """Zones 3 and 8 (and slivers of 1, 4-7) at alpha <= 0.08, into ``ax``."""
+    a_max, (y_lo, y_hi) = SMALL_ALPHA
+    _draw_plane(ax, a_max, y_lo, y_hi, legend=main)
+    fs = 12 if main else 10
+    for z, spot in {3: (0.012, 0.975), 8: (0.02, 0.86), 7: (0.065, 0.78),
+                    4: (0.074, 0.965)}.items():  # fmt: skip
+        ax.annotate(str(z), spot, ha="center", va="center", fontsize=fs, fontweight="bold",
+                    zorder=4)  # fmt: skip
+    ax.annotate("1, 5, 6: thin bands\nup to $\\gamma = 1-\\alpha^2$", (0.055, 0.996),
+                xytext=(0.041, 0.905), fontsize=fs - 2.5, zorder=4,
+                arrowprops=dict(arrowstyle="->", lw=0.6))  # fmt: skip
+    if pt is not None and pt.alpha <= a_max and y_lo <= pt.gamma <= y_hi:
+        _mark_top(ax, pt, label=main)
+
+
+def atlas(pt=None, ax=None, *, small_alpha=False, inset=True):
     """The (alpha, gamma) plane of play tops: zones 1-8 shaded and labelled, every boundary
     curve drawn exactly, and ``pt`` (a PlayTop) marked.
 
     The boundaries are the lines gamma = 1 +- alpha, the parabola gamma = 1 - alpha^2, the
     curves u_m = 1 (closed, alpha < 7 - 4 sqrt 3), u_m = -1 and J_R(1) = J_R(-1) in closed
-    form. Zones 3 and 8 lie at alpha < 0.072 and are shown in an enlarged inset. gamma < 1/2
-    (C > 2A) is hatched: no rigid body has it. Source: the seed's Fig. 6.
+    form. Zones 3 and 8 lie at alpha < 0.072: they are shown in an enlarged inset, or alone
+    with ``small_alpha=True``. gamma < 1/2 (C > 2A) is hatched: no rigid body has it.
+    Source: the seed's Fig. 6.
     """
     plt = _pyplot()
     if ax is None:
         _, ax = plt.subplots(figsize=(9, 7))
-    y_lo, y_hi = gamma_range
-    a, bands = _draw_plane(ax, alpha_max, y_lo, y_hi, labels=True, legend=True)
+    legend = dict(fontsize=8.5, framealpha=0.95, title_fontsize=8.5,
+                  title="types: Ia = 1, Ib = 2, IIa = 3-6, IIb = 7, 8")  # fmt: skip
+    ax.set_ylabel(r"$\gamma = A/C$  (equatorial over axial moment of inertia)")
+    if small_alpha:
+        _small_alpha_panel(ax, pt, main=True)
+        ax.set_xlabel(r"$\alpha = s/\rho$")
+        ax.set_title("Play tops at small alpha: zones 3 and 8")
+        ax.legend(loc="lower right", **legend)
+        return ax
+    y_lo, y_hi = 0.4, 2.3
+    a, bands = _draw_plane(ax, 1.2, y_lo, y_hi, legend=True)
     spots = {2: (0.75, 2.05), 1: (0.95, 1.55), 7: (0.16, 0.62)}
     # Zones 4-6 are labelled where their bands are widest, away from the marked top.
     away = np.ones_like(a, dtype=bool)
@@ -137,30 +166,19 @@ def atlas(pt=None, ax=None, *, alpha_max=1.2, gamma_range=(0.4, 2.3), inset=True
         lo, hi = bands[z]
         spots[z] = _label_point(a[away], lo[away], hi[away], (0.15, 0.62), (0.5, y_hi))
     for z, spot in spots.items():
-        ax.annotate(str(z), spot, ha="center", va="center", fontsize=12 if z < 3 or z == 7 else 10,
+        ax.annotate(str(z), spot, ha="center", va="center", fontsize=12 if z in (1, 2, 7) else 10,
                     fontweight="bold", zorder=4)  # fmt: skip
-    ax.text(0.01, 0.45, "C > 2A: no rigid body", ha="left", va="center",
-            fontsize=8, color="0.3", zorder=4, bbox=dict(fc="white", ec="none", pad=1))  # fmt: skip
+    ax.text(0.01, 0.45, "C > 2A: no rigid body", ha="left", va="center", fontsize=8,
+            color="0.3", zorder=4, bbox=dict(fc="white", ec="none", pad=1))  # fmt: skip
     if pt is not None:
         _mark_top(ax, pt)
     ax.set_xlabel(r"$\alpha = s/\rho$  (height of the centre of mass over the tip's centre, "
                   "in tip radii)")  # fmt: skip
-    ax.set_ylabel(r"$\gamma = A/C$  (equatorial over axial moment of inertia)")
     ax.set_title("Play tops by the stability of their stationary motions: zones 1-8")
-    ax.legend(loc="upper left", fontsize=8.5, framealpha=0.95,
-              title="types: Ia = 1, Ib = 2, IIa = 3-6, IIb = 7, 8", title_fontsize=8.5)  # fmt: skip
+    ax.legend(loc="upper left", **legend)
     if inset:
         ins = ax.inset_axes([0.6, 0.11, 0.38, 0.39])
-        _draw_plane(ins, 0.08, 0.72, 1.01, labels=False, legend=False)
-        for z, spot in {3: (0.012, 0.975), 8: (0.02, 0.86), 7: (0.065, 0.78),
-                        4: (0.074, 0.965)}.items():  # fmt: skip
-            ins.annotate(str(z), spot, ha="center", va="center", fontsize=10,
-                         fontweight="bold", zorder=4)  # fmt: skip
-        ins.annotate("1, 5, 6: thin bands\nup to $\\gamma = 1-\\alpha^2$", (0.055, 0.996),
-                     xytext=(0.041, 0.905), fontsize=7.5, zorder=4,
-                     arrowprops=dict(arrowstyle="->", lw=0.6))  # fmt: skip
-        if pt is not None and pt.alpha <= 0.08 and 0.72 <= pt.gamma <= 1.01:
-            _mark_top(ins, pt, label=False)
+        _small_alpha_panel(ins, pt, main=False)
         ins.set_xlabel(r"$\alpha$", fontsize=8, labelpad=1)
         ins.set_ylabel(r"$\gamma$", fontsize=8, labelpad=1)
         ins.tick_params(labelsize=7)

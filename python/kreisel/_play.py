@@ -171,6 +171,10 @@ class PlayTop:
     alpha = property(lambda self: self._native.alpha, doc="s / rho.")
     gamma = property(lambda self: self._native.gamma, doc="A / C.")
     J_beta = property(lambda self: self._native.j_beta, doc="rho sqrt(C m g s) (kg m^2/s).")
+    u_m = property(
+        lambda self: _atlas.u_m(self),
+        doc="Where J_R(u) has its minimum on the real line; None for type I tops.",
+    )
 
     def __repr__(self) -> str:
         p = self._p

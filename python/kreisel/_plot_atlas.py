@@ -247,7 +247,7 @@ def J_R_plot(pt, J=None, ax=None, *, n=2001):
     jb = pt.J_beta
     u = np.linspace(-1, 1, n)
     jr = pt.J_R(u) / jb
-    um = _atlas.u_m(pt)
+    um = pt.u_m
     stable = np.ones_like(u, dtype=bool) if um is None else u > um
     finite = jr[np.isfinite(jr)]
     ends = [x / jb for x in (pt.J_R(-1.0), pt.J_R(1.0)) if np.isfinite(x)]

@@ -9,6 +9,7 @@ SI units and radians throughout; arrays are numpy arrays.
 """
 
 from . import events
+from ._atlas import Classification, Prediction, RegularPrecession, StationaryMotion
 from ._core import __version__
 from ._errors import KreiselError, NumericalError, ParameterError
 from ._heavy import HeavyTop, RigidState
@@ -28,6 +29,7 @@ from ._trajectory import Trajectory
 
 __all__ = [
     "BatchSummary",
+    "Classification",
     "Coulomb",
     "Event",
     "EventRecord",
@@ -43,7 +45,10 @@ __all__ = [
     "ParameterError",
     "PlayState",
     "PlayTop",
+    "Prediction",
+    "RegularPrecession",
     "RigidState",
+    "StationaryMotion",
     "Trajectory",
     "Viscous",
     "__version__",

@@ -71,6 +71,7 @@ def demo(out: Path, *, animation: bool = True, progress=None) -> Path:
     plt.close(fig)
     print(f"wrote {path} and {path2}")
     tippe = _demo_tippe(out, animation=animation, progress=progress)
+    tippe["atlas"] = _demo_atlas(out)
     report = _report(out, top, rows, tippe)
     print(f"wrote {report}")
     return report
@@ -132,6 +133,36 @@ def _demo_tippe(out: Path, *, animation: bool, progress) -> dict:
     }  # fmt: skip
 
 
+def _demo_atlas(out: Path) -> str:
+    import numpy as np
+
+    from . import PlayTop, Viscous, plot
+
+    # The tippe top of _demo_tippe, placed in the (alpha, gamma) atlas.
+    m, rho, s = 0.02, 0.02, 0.006
+    c = 0.4 * m * rho**2
+    pt = PlayTop(m=m, A=0.8 * c, C=c, s=s, rho=rho, friction=Viscous(mu=1.0))
+    cl = pt.classify()
+    p = pt.predict(pt.state(theta=np.pi - 0.1, psi_dot=150.0))
+    end = p.ending
+    print(
+        f"kreisel demo: the tippe top lies in zone {cl.zone} (type {cl.type}, Fig. 3 area "
+        f"{cl.fig3}); spun at 150 rad/s near hanging it has J = {p.J:.4g} kg m^2/s and must "
+        f"end {end.kind if end else 'in one of several motions'}"
+        + (f" with omega3 = {end.omega3:.4g} rad/s" if end else "")
+    )
+    plt = plot._pyplot()
+    fig, axes = plt.subplots(1, 2, figsize=(16, 6.5), gridspec_kw={"width_ratios": [1.25, 1]})
+    plot.atlas(pt, ax=axes[0])
+    plot.J_R_plot(pt, J=p.J, ax=axes[1])
+    fig.tight_layout()
+    path = out / "atlas.png"
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    print(f"wrote {path}")
+    return path.name
+
+
 def _report(out: Path, top, rows, tippe) -> Path:
     from . import __version__
 
@@ -181,6 +212,13 @@ def _report(out: Path, top, rows, tippe) -> Path:
         f"![Time series, contact modes shaded]({tippe['figure']})",
         "",
         f"![The contact point's track on the floor]({tippe['track']})",
+        "",
+        "## Where it ends: the atlas of play tops",
+        "",
+        "The top in the (alpha, gamma) plane of the seed's Figs. 3 and 6, and its J_R(u) with "
+        "the stationary motions open to its Jellett integral.",
+        "",
+        f"![Atlas and J_R]({tippe['atlas']})",
         "",
         "More: `kreisel presets`, `kreisel play --preset tippe --animate mp4`, "
         "`kreisel run top.toml`.",

@@ -6,7 +6,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import _core
+from . import _atlas, _core
 from ._errors import ParameterError
 from ._heavy import _vector, euler_state
 from ._validate import real
@@ -172,6 +172,10 @@ class PlayTop:
     alpha = property(lambda self: self._native.alpha, doc="s / rho.")
     gamma = property(lambda self: self._native.gamma, doc="A / C.")
     J_beta = property(lambda self: self._native.j_beta, doc="rho sqrt(C m g s) (kg m^2/s).")
+    u_m = property(
+        lambda self: _atlas.u_m(self),
+        doc="Where J_R(u) has its minimum on the real line; None for type I tops.",
+    )
 
     def __repr__(self) -> str:
         p = self._p
@@ -253,6 +257,43 @@ class PlayTop:
     def energy(self, state) -> float:
         """Total energy (J): translation + rotation + m g z_G."""
         return self._native.invariants(self._check(state))[1]
+
+    # Stationary motions, stability and the atlas: thin wrappers of kreisel._atlas.
+
+    def J_R(self, u):
+        """``J_R(u) = J_beta N(u)/sqrt(D(u))`` (kg m^2/s): the |J| of the regular precession at
+        inclination ``u = cos(theta)``; nan where none exists. Vectorised over ``u``."""
+        return _atlas.J_R(self, u)
+
+    def regular_precession(self, u):
+        """The regular precession at ``u`` (a :class:`RegularPrecession`; ParameterError where
+        none exists)."""
+        return _atlas.regular_precession(self, u)
+
+    def stationary_motions(self, J):
+        """Every stationary motion at Jellett integral ``J`` (kg m^2/s), by ascending u, each a
+        :class:`StationaryMotion` with its stability."""
+        return _atlas.stationary_motions(self, J)
+
+    def classify(self):
+        """Type (Ia, Ib, IIa, IIb), zone (1..8) and Fig. 3 area of this top
+        (a :class:`Classification`)."""
+        return _atlas.classify(self)
+
+    def predict(self, state):
+        """The stable stationary motions at this state's Jellett integral and the one it must
+        end in where that is unique (a :class:`Prediction`)."""
+        return _atlas.predict(self, state)
+
+    def frictionless_turning_points(self, state):
+        """(theta_min, theta_max) (rad) of the frictionless motion from a contact state: the
+        roots of the gyro function, that of the Lagrange top with I1 = A, I3 = C, l = s."""
+        return _atlas.frictionless_turning_points(self, state)
+
+    def frictionless_nutation_period(self, state) -> float:
+        """Nutation period (s) of the frictionless motion from a contact state:
+        ``udot^2 = F(u) / (1 + (m s^2/A)(1 - u^2))``, so longer than the Lagrange top's."""
+        return _atlas.frictionless_nutation_period(self, state)
 
 
 @dataclass(frozen=True)

@@ -336,3 +336,6 @@ def contact_track(traj, ax=None, *, unit="mm"):
     ax.grid(alpha=0.3)
     ax.legend(loc="best", fontsize=8)
     return ax
+
+
+from ._plot_atlas import J_R_plot, atlas, vertical_axis_diagram  # noqa: E402, F401

@@ -5,6 +5,7 @@ mod heavy;
 mod lagrange;
 mod play;
 mod special;
+mod stability;
 
 use pyo3::prelude::*;
 
@@ -23,6 +24,16 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(special::ellippiinc, m)?)?;
     m.add_function(wrap_pyfunction!(special::ellippi, m)?)?;
     m.add_function(wrap_pyfunction!(special::cubic_roots, m)?)?;
+    m.add_function(wrap_pyfunction!(stability::play_j_r, m)?)?;
+    m.add_function(wrap_pyfunction!(stability::play_stationary_energy, m)?)?;
+    m.add_function(wrap_pyfunction!(stability::play_regular_precession, m)?)?;
+    m.add_function(wrap_pyfunction!(stability::play_stationary_motions, m)?)?;
+    m.add_function(wrap_pyfunction!(stability::play_u_m, m)?)?;
+    m.add_function(wrap_pyfunction!(stability::play_classify, m)?)?;
+    m.add_function(wrap_pyfunction!(stability::play_zones, m)?)?;
+    m.add_function(wrap_pyfunction!(stability::play_zone_boundaries, m)?)?;
+    m.add_function(wrap_pyfunction!(stability::play_predict, m)?)?;
+    m.add_function(wrap_pyfunction!(stability::play_frictionless_nutation, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

@@ -1,3 +1,4 @@
 //! Stability of stationary motions.
 
+pub mod play_top;
 pub mod steady_precession;

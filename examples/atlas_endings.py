@@ -1,6 +1,6 @@
 """Figure: where simulated play tops end, drawn over the (alpha, gamma) atlas.
 
-    python examples/atlas_endings.py [OUT.png]
+    python examples/atlas_endings.py [OUT_DIR | OUT.png] [--full]
 
 Tops of mass 20 g with a tip sphere of radius 2 cm, C = 0.4 m rho^2 and A = gamma C, are
 placed on a grid of the (alpha, gamma) plane, and at small alpha in zones 3 and 8 (right
@@ -13,8 +13,9 @@ at small alpha, where the gravity torque is tiny). Each run is a glyph for the m
 is in at the end (down triangle: upright, up triangle: hanging, circle: precession or still
 moving): green where it is the ending PlayTop.predict gives (final u within 1e-3), red
 where it is another stationary motion at the same J (a contradiction), orange where the
-top has not settled yet, grey where the prediction left two endings open. Writes
-kreisel-out/atlas_endings.png unless a path is given.
+top has not settled yet, grey where the prediction left two endings open. By default a
+sixth of the grid is run (a few seconds); --full runs it all (about 20 s). Writes
+atlas_endings.png (into kreisel-out/ unless a folder or a file name is given).
 """
 
 from __future__ import annotations
@@ -75,10 +76,14 @@ def draw(ax, rows, dx):
 
 def main(argv=None) -> pathlib.Path:
     argv = sys.argv[1:] if argv is None else argv
-    out = pathlib.Path(argv[0]) if argv else pathlib.Path("kreisel-out") / "atlas_endings.png"
+    full = "--full" in argv
+    paths = [a for a in argv if a != "--full"]
+    out = pathlib.Path(paths[0]) if paths else pathlib.Path("kreisel-out")
+    if out.suffix != ".png":
+        out = out / "atlas_endings.png"
     out.parent.mkdir(parents=True, exist_ok=True)
-    rows = run(MAIN, 0.1, 400.0)
-    small = run(SMALL, 0.05, 1500.0)
+    rows = run(MAIN if full else MAIN[::6], 0.1, 400.0)
+    small = run(SMALL if full else SMALL[::3], 0.05, 1500.0)
     fig, (ax, ax2) = plt.subplots(1, 2, figsize=(17, 7.5), layout="constrained",
                                   gridspec_kw={"width_ratios": [1.35, 1]})  # fmt: skip
     kp.atlas(ax=ax, inset=False)

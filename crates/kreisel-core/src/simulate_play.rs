@@ -67,6 +67,12 @@ impl OdeSystem<DIM> for ModeSystem<'_> {
     }
 }
 
+/// The normal force sliding would need at a state (negative: the floor would have to pull).
+fn slip_normal(top: &PlayTop, y: &[f64; DIM], dir: [f64; 3]) -> f64 {
+    let mut dy = [0.0; DIM];
+    top.dynamics(Mode::Slip, y, dir, &mut dy).n
+}
+
 /// The mode a state starts in.
 pub fn initial_mode(top: &PlayTop, y: &[f64; DIM]) -> Mode {
     if top.height(y) > 1e-12 * top.rho {
@@ -255,7 +261,11 @@ pub fn simulate_play(top: &PlayTop, y0: [f64; DIM], settings: &PlaySettings) -> 
                 if ft > 0.0 {
                     dir = [-c.ft[0] / ft, -c.ft[1] / ft, 0.0];
                 }
-                mode = Mode::Slip;
+                mode = if slip_normal(top, &y, dir) < 0.0 {
+                    Mode::Flight
+                } else {
+                    Mode::Slip
+                };
             }
             "touchdown" => {
                 let (yi, sticks) = top.impact(&y);
@@ -282,6 +292,10 @@ pub fn simulate_play(top: &PlayTop, y0: [f64; DIM], settings: &PlaySettings) -> 
                 } else {
                     Mode::Slip
                 };
+                if mode == Mode::Slip && slip_normal(top, &y, dir) < 0.0 {
+                    // Sliding would need the floor to pull: the top leaves it again.
+                    mode = Mode::Flight;
+                }
                 if mode != Mode::Flight {
                     let k = top.kin(&y);
                     let sp = (k.v_t[0] * k.v_t[0] + k.v_t[1] * k.v_t[1]).sqrt();

@@ -76,7 +76,12 @@ impl PyPlayTop {
         let fr = match friction {
             "coulomb" => Friction::Coulomb { mu },
             "viscous" => Friction::Viscous { mu },
-            _ => Friction::Frictionless,
+            "none" => Friction::Frictionless,
+            other => {
+                return Err(pyo3::exceptions::PyValueError::new_err(format!(
+                    "friction = {other:?} is not allowed: use \"coulomb\", \"viscous\" or \"none\""
+                )))
+            }
         };
         Ok(PyPlayTop {
             inner: PlayTop::new(m, a, c, s, rho, g, fr, restitution, rolling, drilling, air)

@@ -245,6 +245,80 @@ def run(file, **kw):
     _execute(problem, out, **kw)
 
 
+@cli.command(context_settings=_CONTEXT)
+@click.option("--preset", default=None, help="a play-top preset to mark (see `kreisel presets`)")
+@_opt("--m", "m", "mass (kg), > 0", type=float)
+@_opt("--A", "A", "equatorial moment about the centre of mass (kg m^2)", type=float)
+@_opt("--C", "C", "axial moment about the centre of mass (kg m^2)", type=float)
+@_opt("--s", "s", "tip-sphere centre to centre of mass (m)", type=float)
+@_opt("--rho", "rho", "tip-sphere radius (m)", type=float)
+@_opt("--g", "g", "gravitational acceleration (m/s^2) [9.81]", type=float)
+@click.option(
+    "--out",
+    type=click.Path(file_okay=False, path_type=Path),
+    default=Path("kreisel-out") / "atlas",
+    show_default=True,
+    help="output folder",
+)
+def atlas(preset, out, **top):
+    """The (alpha, gamma) atlas of play tops and the vertical-axis diagram, a top marked."""
+    from ._config import from_tables, overlay
+    from ._config import preset as get_preset
+
+    given = {k: v for k, v in top.items() if v is not None}
+    pt = None
+    if preset is not None or given:
+        if preset is not None:
+            base = get_preset(preset)
+            if base["top"]["kind"] != "play":
+                raise ParameterError(
+                    f"preset = {preset!r} is not allowed here: it is a {base['top']['kind']} "
+                    "top; the atlas is of play tops"
+                )
+        else:
+            base = {"top": {"kind": "play"}, "state": {}, "simulation": {}}
+        tables = overlay(base, {"top": given, "state": {}, "simulation": {}})
+        if preset is None:
+            missing = [k for k in ("m", "A", "C", "s", "rho") if k not in given]
+            if missing:
+                raise ParameterError(
+                    f"{', '.join(missing)} missing: give --m, --A, --C, --s and --rho, "
+                    "or a --preset"
+                )
+            tables["state"] = {"theta": 0.1}
+        pt = from_tables(tables).model
+    from . import plot
+
+    plt = plot._pyplot()
+    out.mkdir(parents=True, exist_ok=True)
+    written = []
+    fig, ax = plt.subplots(figsize=(9, 6.5))
+    plot.atlas(pt, ax=ax)
+    fig.tight_layout()
+    written.append(out / "atlas.png")
+    fig.savefig(written[-1], dpi=110)
+    plt.close(fig)
+    fig, ax = plt.subplots(figsize=(7, 6))
+    plot.vertical_axis_diagram(pt, ax=ax)
+    fig.tight_layout()
+    written.append(out / "vertical_axis.png")
+    fig.savefig(written[-1], dpi=110)
+    plt.close(fig)
+    if pt is not None:
+        c = pt.classify()
+        click.echo(
+            f"{pt!r}\n  alpha = {pt.alpha:.4g}, gamma = {pt.gamma:.4g}: type {c.type}, "
+            f"zone {c.zone}, Fig. 3 area {c.fig3}"
+        )
+        fig, ax = plt.subplots(figsize=(8, 5))
+        plot.J_R_plot(pt, ax=ax)
+        fig.tight_layout()
+        written.append(out / "J_R.png")
+        fig.savefig(written[-1], dpi=110)
+        plt.close(fig)
+    click.echo(f"wrote {out}/: {', '.join(p.name for p in written)}")
+
+
 _EULER = ("theta", "phi", "psi", "theta_dot", "phi_dot", "psi_dot")
 
 

@@ -42,6 +42,8 @@ bench: $(EXT)
 	$(PY) benchmarks/bench_exact.py
 	$(PY) benchmarks/bench_simulate.py
 	$(PY) benchmarks/bench_mujoco.py
+	$(PY) benchmarks/bench_play.py
+	$(PY) benchmarks/bench_tippe_mujoco.py
 
 lint: $(DEPS)
 	cargo clippy --all-targets -- -D warnings

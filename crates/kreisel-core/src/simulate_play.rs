@@ -102,6 +102,8 @@ pub fn simulate_play(top: &PlayTop, y0: [f64; DIM], settings: &PlaySettings) -> 
     let mut mode = initial_mode(top, &y);
     top.project(mode, &mut y);
     let mut dir = [0.0; 3];
+    // Expected duration of the current flight after a bounce (infinite: unknown).
+    let mut hop = f64::INFINITY;
     let mut t = 0.0;
     let mut next_sample = 0usize;
     let mut inverted = false;
@@ -121,13 +123,14 @@ pub fn simulate_play(top: &PlayTop, y0: [f64; DIM], settings: &PlaySettings) -> 
             atol: settings.atol,
             h_init: None,
             h_max: if mode == Mode::Flight {
-                top.flight_step(&y)
+                top.flight_step(&y).min(hop / 4.0)
             } else {
                 f64::INFINITY
             },
             max_steps: 100_000_000,
         };
-        let eps = 1e-10 * top.slip_scale(&top.kin(&y));
+        // Slip speed taken as zero: well above the integration error of the slip itself.
+        let eps = (10.0 * settings.rtol).max(1e-10) * top.slip_scale(&top.kin(&y));
         // Mode events (terminal) then watched ones.
         let mut g_liftoff = |_t: f64, y: &[f64; DIM]| {
             let mut dy = [0.0; DIM];
@@ -241,11 +244,15 @@ pub fn simulate_play(top: &PlayTop, y0: [f64; DIM], settings: &PlaySettings) -> 
         }
         // Switch.
         match reason {
-            "lift_off" => mode = Mode::Flight,
+            "lift_off" => {
+                mode = Mode::Flight;
+                hop = f64::INFINITY;
+            }
             "slip_to_roll" => {
                 let (ok, c) = top.roll_admissible(&y);
                 if ok {
                     mode = Mode::Roll;
+                    y = top.stick(&y);
                 } else {
                     let ft = (c.ft[0] * c.ft[0] + c.ft[1] * c.ft[1]).sqrt();
                     dir = if ft > 0.0 {
@@ -270,15 +277,16 @@ pub fn simulate_play(top: &PlayTop, y0: [f64; DIM], settings: &PlaySettings) -> 
             "touchdown" => {
                 let (yi, sticks) = top.impact(&y);
                 y = yi;
-                // A bounce too short to resolve (fewer than four flight steps) is absorbed:
-                // the impact is then plastic.
                 let vn = top.kin(&y).v_t[2];
-                let hop = if top.g > 0.0 {
+                hop = if top.g > 0.0 {
                     2.0 * vn / top.g
                 } else {
                     f64::INFINITY
                 };
-                let bounce = vn > 0.0 && hop > 4.0 * top.flight_step(&y);
+                // Flights shorter than a millionth of the free-fall time through the tip's
+                // radius are below what the events resolve: such a bounce is absorbed.
+                let tiny = 1e-6 * (top.rho / top.g.max(1e-300)).sqrt();
+                let bounce = vn > 0.0 && hop > tiny;
                 let mut sticks = sticks;
                 if !bounce && vn > 0.0 {
                     let (yp, s2) = top.impact_with(&y, 0.0);

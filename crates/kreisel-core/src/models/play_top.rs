@@ -319,26 +319,34 @@ impl PlayTop {
         }
     }
 
+    /// The change of the velocity of the material point at T caused by an impulse `p` at
+    /// T (space frame): `p/m + (I^-1 (a x p)) x a`.
+    fn tip_velocity_change(&self, k: &Kin, p: [f64; 3]) -> [f64; 3] {
+        let pb = k.q.rotate_inv(p);
+        let dw = self.inv_inertia(cross(k.a_b, pb));
+        add(scale(1.0 / self.m, p), k.q.rotate(cross(dw, k.a_b)))
+    }
+
+    /// The contact's inverse effective mass: the matrix of [`Self::tip_velocity_change`].
+    fn collision_matrix(&self, k: &Kin) -> [[f64; 3]; 3] {
+        let cols = [
+            self.tip_velocity_change(k, [1.0, 0.0, 0.0]),
+            self.tip_velocity_change(k, [0.0, 1.0, 0.0]),
+            self.tip_velocity_change(k, [0.0, 0.0, 1.0]),
+        ];
+        [
+            [cols[0][0], cols[1][0], cols[2][0]],
+            [cols[0][1], cols[1][1], cols[2][1]],
+            [cols[0][2], cols[1][2], cols[2][2]],
+        ]
+    }
+
     /// The friction impulse that stops the remaining (numerically small) slip when rolling
     /// begins, with the energy it takes added to the dissipated energy. Unlike simply
     /// setting the velocity of G, it keeps Jellett's integral and never adds energy.
     pub fn stick(&self, y: &[f64; DIM]) -> [f64; DIM] {
         let k = self.kin(y);
-        let kmat = |p: [f64; 3]| {
-            let pb = k.q.rotate_inv(p);
-            let dw = self.inv_inertia(cross(k.a_b, pb));
-            add(scale(1.0 / self.m, p), k.q.rotate(cross(dw, k.a_b)))
-        };
-        let cols = [
-            kmat([1.0, 0.0, 0.0]),
-            kmat([0.0, 1.0, 0.0]),
-            kmat([0.0, 0.0, 1.0]),
-        ];
-        let mat = [
-            [cols[0][0], cols[1][0], cols[2][0]],
-            [cols[0][1], cols[1][1], cols[2][1]],
-            [cols[0][2], cols[1][2], cols[2][2]],
-        ];
+        let mat = self.collision_matrix(&k);
         let p = solve3(mat, [-k.v_t[0], -k.v_t[1], -k.v_t[2]]);
         let pb = k.q.rotate_inv(p);
         let dw = self.inv_inertia(cross(k.a_b, pb));
@@ -550,21 +558,8 @@ impl PlayTop {
         let k = self.kin(y);
         let vn = k.v_t[2];
         // Velocity change of T per unit impulse P (space frame): P/m + (I^-1 (a x P)) x a.
-        let kmat = |p: [f64; 3]| {
-            let pb = k.q.rotate_inv(p);
-            let dw = self.inv_inertia(cross(k.a_b, pb));
-            add(scale(1.0 / self.m, p), k.q.rotate(cross(dw, k.a_b)))
-        };
-        let cols = [
-            kmat([1.0, 0.0, 0.0]),
-            kmat([0.0, 1.0, 0.0]),
-            kmat([0.0, 0.0, 1.0]),
-        ];
-        let mat = [
-            [cols[0][0], cols[1][0], cols[2][0]],
-            [cols[0][1], cols[1][1], cols[2][1]],
-            [cols[0][2], cols[1][2], cols[2][2]],
-        ];
+        let kmat = |p: [f64; 3]| self.tip_velocity_change(&k, p);
+        let mat = self.collision_matrix(&k);
         let target = [-k.v_t[0], -k.v_t[1], -(1.0 + e) * vn];
         let mut p = solve3(mat, target);
         let mut sticks = true;

@@ -199,21 +199,6 @@ impl<const N: usize> Dop853Work<N> {
     }
 }
 
-/// `sum_{j < S} c[j] k[j]`, unrolled (S and, after inlining, c are compile-time constants).
-#[inline(always)]
-fn combine<const N: usize, const S: usize>(c: &[f64], k: &[[f64; N]; 13]) -> [f64; N] {
-    let mut acc = [0.0; N];
-    for j in 0..S {
-        let cj = c[j];
-        if cj != 0.0 {
-            for i in 0..N {
-                acc[i] += cj * k[j][i];
-            }
-        }
-    }
-    acc
-}
-
 /// Dense output (7th order) of one DOP853 step; see [`Dop853Work::dense`].
 pub struct Dop853Dense<'a, const N: usize, S: OdeSystem<N> + ?Sized> {
     work: &'a Dop853Work<N>,
@@ -456,32 +441,47 @@ impl Dop853 {
     ) -> ([f64; N], f64, bool) {
         let mut finite = all_finite(&k[0]);
         let mut ys = [0.0; N];
-        // Linear combinations with the stage count known at compile time: the loops unroll
-        // and the tableau's zero coefficients fold away.
+        // Linear combinations written out term by term (the macro lists the stage indices):
+        // each coefficient is a constant, so zero terms vanish at compile time.
+        macro_rules! combo {
+            ($coef:expr; $($j:literal)*) => {{
+                let mut acc = [0.0f64; N];
+                $(
+                    let cj: f64 = $coef[$j];
+                    if cj != 0.0 {
+                        for i in 0..N {
+                            acc[i] += cj * k[$j][i];
+                        }
+                    }
+                )*
+                acc
+            }};
+        }
         macro_rules! stage {
-            ($s:literal) => {{
-                let acc = combine::<N, $s>(&co::A[$s], k);
+            ($s:literal; $($j:literal)*) => {{
+                let acc = combo!(co::A[$s]; $($j)*);
                 for i in 0..N {
                     ys[i] = y[i] + h * acc[i];
                 }
+                // No finiteness check per stage: every stage feeds y_new or the error
+                // estimate, which are checked below (a NaN there rejects the step).
                 sys.rhs(t + co::C[$s] * h, &ys, &mut k[$s]);
-                finite &= all_finite(&k[$s]);
             }};
         }
-        stage!(1);
-        stage!(2);
-        stage!(3);
-        stage!(4);
-        stage!(5);
-        stage!(6);
-        stage!(7);
-        stage!(8);
-        stage!(9);
-        stage!(10);
-        stage!(11);
-        let acc = combine::<N, { co::N_STAGES }>(&co::B, k);
-        let e5 = combine::<N, { co::N_STAGES }>(&co::E5, k);
-        let e3 = combine::<N, { co::N_STAGES }>(&co::E3, k);
+        stage!(1; 0);
+        stage!(2; 0 1);
+        stage!(3; 0 1 2);
+        stage!(4; 0 1 2 3);
+        stage!(5; 0 1 2 3 4);
+        stage!(6; 0 1 2 3 4 5);
+        stage!(7; 0 1 2 3 4 5 6);
+        stage!(8; 0 1 2 3 4 5 6 7);
+        stage!(9; 0 1 2 3 4 5 6 7 8);
+        stage!(10; 0 1 2 3 4 5 6 7 8 9);
+        stage!(11; 0 1 2 3 4 5 6 7 8 9 10);
+        let acc = combo!(co::B; 0 1 2 3 4 5 6 7 8 9 10 11);
+        let e5 = combo!(co::E5; 0 1 2 3 4 5 6 7 8 9 10 11);
+        let e3 = combo!(co::E3; 0 1 2 3 4 5 6 7 8 9 10 11);
         let mut y_new = [0.0; N];
         for i in 0..N {
             y_new[i] = y[i] + h * acc[i];

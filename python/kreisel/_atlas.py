@@ -116,8 +116,9 @@ class Prediction:
     ending: StationaryMotion | None
 
 
-def _params(pt):
-    return (pt.m, pt.A, pt.C, pt.s, pt.rho, pt.g)
+def _theory(pt):
+    """The native stationary-motion theory of a play top."""
+    return _core.PlayStability(pt._native)
 
 
 def _motion(t) -> StationaryMotion:
@@ -130,7 +131,7 @@ def J_R(pt, u):
     inclination u; nan where none exists (D(u) <= 0 or |u| > 1). Same shape as ``u``."""
     arr = np.asarray(u, dtype=float)
     flat = np.ascontiguousarray(arr.ravel())
-    out = _core.play_j_r(*_params(pt), flat)
+    out = _theory(pt).j_r(flat)
     out[~(np.abs(flat) <= 1.0)] = np.nan
     out = out.reshape(arr.shape)
     return float(out) if out.ndim == 0 else out
@@ -140,9 +141,11 @@ def stationary_energy(pt, u, J):
     """``V(u) = J^2 / (2 rho^2 C N(u)) + m g (rho + s u)`` (J): the least energy of a state
     with Jellett integral J at inclination u. Same shape as ``u``."""
     arr = np.asarray(u, dtype=float)
-    out = _core.play_stationary_energy(
-        *_params(pt), real("J", J), np.ascontiguousarray(arr.ravel())
-    ).reshape(arr.shape)
+    out = (
+        _theory(pt)
+        .stationary_energy(real("J", J), np.ascontiguousarray(arr.ravel()))
+        .reshape(arr.shape)
+    )
     return float(out) if out.ndim == 0 else out
 
 
@@ -150,7 +153,7 @@ def regular_precession(pt, u) -> RegularPrecession:
     """The regular precession at inclination ``u`` (with J > 0). Raises ParameterError where
     none exists: |u| > 1, or ``D(u) <= 0`` (where the precession rate would be infinite)."""
     u = real("u", u)
-    om, w3, pd, j = _core.play_regular_precession(*_params(pt), u)
+    om, w3, pd, j = _theory(pt).regular_precession(u)
     return RegularPrecession(Omega=om, omega3=w3, psi_dot=pd, J=j, u=u)
 
 
@@ -158,7 +161,7 @@ def stationary_motions(pt, J) -> list:
     """Every stationary motion at Jellett integral ``J`` (kg m^2/s), by ascending u: the
     hanging spin, the regular precessions with ``J_R(u) = |J|`` (0, 1 or 2), the upright spin;
     each with its stability."""
-    return [_motion(t) for t in _core.play_stationary_motions(*_params(pt), real("J", J))]
+    return [_motion(t) for t in _theory(pt).stationary_motions(real("J", J))]
 
 
 def u_m(pt):
@@ -212,7 +215,7 @@ def predict(pt, state) -> Prediction:
     in, where that is unique (sliding friction keeps J and only lowers the energy)."""
     j, e = pt.jellett(state), pt.energy(state)
     u0 = float(np.clip(_u_of(state), -1.0, 1.0))
-    stable, _reach, ending = _core.play_predict(*_params(pt), j, e, u0)
+    stable, _reach, ending = _theory(pt).predict(j, e, u0)
     return Prediction(
         J=j,
         stable=[_motion(t) for t in stable],
@@ -230,7 +233,7 @@ def frictionless_nutation(pt, state):
     """(u_min, u_max, period, lagrange_period) of the frictionless motion from a contact
     state; see :meth:`PlayTop.frictionless_turning_points`."""
     packed = pt._check(state)
-    return _core.play_frictionless_nutation(*_params(pt), packed)
+    return _theory(pt).frictionless_nutation(packed)
 
 
 def frictionless_turning_points(pt, state):

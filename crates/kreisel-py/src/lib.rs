@@ -14,6 +14,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<lagrange::PyLagrangeTop>()?;
     m.add_class::<heavy::PyHeavyTop>()?;
     m.add_class::<play::PyPlayTop>()?;
+    m.add_class::<stability::PyPlayStability>()?;
     m.add_function(wrap_pyfunction!(play::simulate_many, m)?)?;
     m.add_function(wrap_pyfunction!(lagrange::check_euler_state, m)?)?;
     m.add_function(wrap_pyfunction!(heavy::rigid_from_euler, m)?)?;
@@ -24,16 +25,10 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(special::ellippiinc, m)?)?;
     m.add_function(wrap_pyfunction!(special::ellippi, m)?)?;
     m.add_function(wrap_pyfunction!(special::cubic_roots, m)?)?;
-    m.add_function(wrap_pyfunction!(stability::play_j_r, m)?)?;
-    m.add_function(wrap_pyfunction!(stability::play_stationary_energy, m)?)?;
-    m.add_function(wrap_pyfunction!(stability::play_regular_precession, m)?)?;
-    m.add_function(wrap_pyfunction!(stability::play_stationary_motions, m)?)?;
     m.add_function(wrap_pyfunction!(stability::play_u_m, m)?)?;
     m.add_function(wrap_pyfunction!(stability::play_classify, m)?)?;
     m.add_function(wrap_pyfunction!(stability::play_zones, m)?)?;
     m.add_function(wrap_pyfunction!(stability::play_zone_boundaries, m)?)?;
-    m.add_function(wrap_pyfunction!(stability::play_predict, m)?)?;
-    m.add_function(wrap_pyfunction!(stability::play_frictionless_nutation, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

@@ -14,9 +14,11 @@ pub struct PyPlayTop {
     pub inner: PlayTop,
 }
 
-type Packed = ([f64; 4], [f64; 3], [f64; 3], [f64; 3]);
+/// A state as (q, omega, com, com_velocity).
+pub type Packed = ([f64; 4], [f64; 3], [f64; 3], [f64; 3]);
 
-fn pack(s: &Packed) -> [f64; DIM] {
+/// The core's state vector of a packed state (no energy dissipated yet).
+pub fn pack(s: &Packed) -> [f64; DIM] {
     let mut y = [0.0; DIM];
     y[..4].copy_from_slice(&s.0);
     y[4..7].copy_from_slice(&s.1);

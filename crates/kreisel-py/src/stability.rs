@@ -1,8 +1,9 @@
-//! Bindings of the play top's stationary-motion theory: conversion only. Every function
-//! takes the body's parameters (m, A, C, s, rho, g) as plain floats.
+//! Bindings of the play top's stationary-motion theory: conversion only. The theory of a
+//! native play top is built once (`PlayStability(top)`) and asked for everything.
 
 use crate::errors::IntoPyResult;
-use kreisel_core::models::play_top::{Friction, PlayTop, DIM};
+use crate::play::{pack, Packed, PyPlayTop};
+use kreisel_core::models::play_top::{Friction, PlayTop};
 use kreisel_core::stability::play_top::{self as st, PlayStability, StationaryMotion};
 use numpy::{IntoPyArray, PyArray1, PyReadonlyArray1};
 use pyo3::prelude::*;
@@ -11,95 +12,92 @@ type Arr<'py> = Bound<'py, PyArray1<f64>>;
 /// (kind, u, stable, Omega, omega3, energy)
 type Motion = (&'static str, f64, bool, f64, f64, f64);
 
-fn theory(
-    py: Python<'_>,
-    m: f64,
-    a: f64,
-    c: f64,
-    s: f64,
-    rho: f64,
-    g: f64,
-) -> PyResult<PlayStability> {
-    PlayStability::new(m, a, c, s, rho, g).py(py)
-}
-
 fn motion(x: &StationaryMotion) -> Motion {
     (x.kind.name(), x.u, x.stable, x.omega, x.omega3, x.energy)
 }
 
-/// J_R(u) on the real line at every u (NaN where D(u) <= 0).
-#[pyfunction]
-#[allow(clippy::too_many_arguments)]
-pub fn play_j_r<'py>(
-    py: Python<'py>,
-    m: f64,
-    a: f64,
-    c: f64,
-    s: f64,
-    rho: f64,
-    g: f64,
-    u: PyReadonlyArray1<'py, f64>,
-) -> PyResult<Arr<'py>> {
-    let t = theory(py, m, a, c, s, rho, g)?;
-    let v: Vec<f64> = u.as_slice()?.iter().map(|&x| t.j_r(x)).collect();
-    Ok(v.into_pyarray(py))
+/// The stationary-motion theory of one play top.
+#[pyclass(name = "PlayStability", module = "kreisel._core", frozen)]
+pub struct PyPlayStability {
+    theory: PlayStability,
+    top: PlayTop,
 }
 
-/// V(u) at fixed J at every u.
-#[pyfunction]
-#[allow(clippy::too_many_arguments)]
-pub fn play_stationary_energy<'py>(
-    py: Python<'py>,
-    m: f64,
-    a: f64,
-    c: f64,
-    s: f64,
-    rho: f64,
-    g: f64,
-    j: f64,
-    u: PyReadonlyArray1<'py, f64>,
-) -> PyResult<Arr<'py>> {
-    let t = theory(py, m, a, c, s, rho, g)?;
-    let v: Vec<f64> = u.as_slice()?.iter().map(|&x| t.energy(j, x)).collect();
-    Ok(v.into_pyarray(py))
-}
+#[pymethods]
+impl PyPlayStability {
+    #[new]
+    fn new(py: Python<'_>, top: PyRef<'_, PyPlayTop>) -> PyResult<Self> {
+        let t = top.inner;
+        Ok(PyPlayStability {
+            theory: PlayStability::new(t.m, t.a, t.c, t.s, t.rho, t.g).py(py)?,
+            top: t,
+        })
+    }
 
-/// (Omega, omega3, psi_dot, J) of the regular precession at u.
-#[pyfunction]
-#[allow(clippy::too_many_arguments)]
-pub fn play_regular_precession(
-    py: Python<'_>,
-    m: f64,
-    a: f64,
-    c: f64,
-    s: f64,
-    rho: f64,
-    g: f64,
-    u: f64,
-) -> PyResult<(f64, f64, f64, f64)> {
-    let r = theory(py, m, a, c, s, rho, g)?
-        .regular_precession(u)
-        .py(py)?;
-    Ok((r.omega, r.omega3, r.psi_dot, r.j))
-}
+    /// J_R(u) on the real line at every u (NaN where D(u) <= 0).
+    fn j_r<'py>(&self, py: Python<'py>, u: PyReadonlyArray1<'py, f64>) -> PyResult<Arr<'py>> {
+        let v: Vec<f64> = u.as_slice()?.iter().map(|&x| self.theory.j_r(x)).collect();
+        Ok(v.into_pyarray(py))
+    }
 
-/// Every stationary motion at J: (kind, u, stable, Omega, omega3, energy), ascending u.
-#[pyfunction]
-#[allow(clippy::too_many_arguments)]
-pub fn play_stationary_motions(
-    py: Python<'_>,
-    m: f64,
-    a: f64,
-    c: f64,
-    s: f64,
-    rho: f64,
-    g: f64,
-    j: f64,
-) -> PyResult<Vec<Motion>> {
-    let v = theory(py, m, a, c, s, rho, g)?
-        .stationary_motions(j)
-        .py(py)?;
-    Ok(v.iter().map(motion).collect())
+    /// V(u) at fixed J at every u.
+    fn stationary_energy<'py>(
+        &self,
+        py: Python<'py>,
+        j: f64,
+        u: PyReadonlyArray1<'py, f64>,
+    ) -> PyResult<Arr<'py>> {
+        let v: Vec<f64> = u
+            .as_slice()?
+            .iter()
+            .map(|&x| self.theory.energy(j, x))
+            .collect();
+        Ok(v.into_pyarray(py))
+    }
+
+    /// (Omega, omega3, psi_dot, J) of the regular precession at u.
+    fn regular_precession(&self, py: Python<'_>, u: f64) -> PyResult<(f64, f64, f64, f64)> {
+        let r = self.theory.regular_precession(u).py(py)?;
+        Ok((r.omega, r.omega3, r.psi_dot, r.j))
+    }
+
+    /// Every stationary motion at J: (kind, u, stable, Omega, omega3, energy), ascending u.
+    fn stationary_motions(&self, py: Python<'_>, j: f64) -> PyResult<Vec<Motion>> {
+        let v = self.theory.stationary_motions(j).py(py)?;
+        Ok(v.iter().map(motion).collect())
+    }
+
+    /// (stable, reachable, ending) for a state's J, energy and u.
+    #[allow(clippy::type_complexity)]
+    fn predict(
+        &self,
+        py: Python<'_>,
+        j: f64,
+        energy: f64,
+        u: f64,
+    ) -> PyResult<(Vec<Motion>, Vec<Motion>, Option<Motion>)> {
+        let p = self.theory.predict(j, energy, u).py(py)?;
+        Ok((
+            p.stable.iter().map(motion).collect(),
+            p.reachable.iter().map(motion).collect(),
+            p.ending.as_ref().map(motion),
+        ))
+    }
+
+    /// (u_min, u_max, period, lagrange_period) of the same body without friction, from a
+    /// packed contact state (q, omega, com, com_velocity).
+    fn frictionless_nutation(
+        &self,
+        py: Python<'_>,
+        state: Packed,
+    ) -> PyResult<(f64, f64, f64, f64)> {
+        let top = PlayTop {
+            friction: Friction::Frictionless,
+            ..self.top
+        };
+        let r = st::frictionless_nutation(&top, &pack(&state)).py(py)?;
+        Ok((r.u_range.0, r.u_range.1, r.period, r.lagrange_period))
+    }
 }
 
 /// u_m of (alpha, gamma), None for type I.
@@ -161,66 +159,4 @@ pub fn play_zone_boundaries<'py>(
         c.into_pyarray(py),
         d.into_pyarray(py),
     ))
-}
-
-/// (stable, reachable, ending) for a state's J, energy and u.
-#[pyfunction]
-#[allow(clippy::too_many_arguments, clippy::type_complexity)]
-pub fn play_predict(
-    py: Python<'_>,
-    m: f64,
-    a: f64,
-    c: f64,
-    s: f64,
-    rho: f64,
-    g: f64,
-    j: f64,
-    energy: f64,
-    u: f64,
-) -> PyResult<(Vec<Motion>, Vec<Motion>, Option<Motion>)> {
-    let p = theory(py, m, a, c, s, rho, g)?
-        .predict(j, energy, u)
-        .py(py)?;
-    Ok((
-        p.stable.iter().map(motion).collect(),
-        p.reachable.iter().map(motion).collect(),
-        p.ending.as_ref().map(motion),
-    ))
-}
-
-/// (u_min, u_max, period, lagrange_period) of the frictionless play top from a packed
-/// contact state (q, omega, com, com_velocity).
-#[pyfunction]
-#[allow(clippy::too_many_arguments, clippy::type_complexity)]
-pub fn play_frictionless_nutation(
-    py: Python<'_>,
-    m: f64,
-    a: f64,
-    c: f64,
-    s: f64,
-    rho: f64,
-    g: f64,
-    state: ([f64; 4], [f64; 3], [f64; 3], [f64; 3]),
-) -> PyResult<(f64, f64, f64, f64)> {
-    let top = PlayTop::new(
-        m,
-        a,
-        c,
-        s,
-        rho,
-        g,
-        Friction::Frictionless,
-        0.0,
-        0.0,
-        0.0,
-        0.0,
-    )
-    .py(py)?;
-    let mut y = [0.0; DIM];
-    y[..4].copy_from_slice(&state.0);
-    y[4..7].copy_from_slice(&state.1);
-    y[7..10].copy_from_slice(&state.2);
-    y[10..13].copy_from_slice(&state.3);
-    let r = st::frictionless_nutation(&top, &y).py(py)?;
-    Ok((r.u_range.0, r.u_range.1, r.period, r.lagrange_period))
 }

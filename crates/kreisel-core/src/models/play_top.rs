@@ -348,6 +348,15 @@ impl PlayTop {
         let k = self.kin(y);
         let mat = self.collision_matrix(&k);
         let p = solve3(mat, [-k.v_t[0], -k.v_t[1], -k.v_t[2]]);
+        let (mut out, loss) = self.apply_impulse(y, &k, p);
+        // Rounding may show a gain of ~1e-18 J: stopping a slip can only take energy.
+        out[13] += loss.max(0.0);
+        out
+    }
+
+    /// The state after an impulse `p` (space frame) at the contact point, and the kinetic
+    /// energy the impulse took.
+    fn apply_impulse(&self, y: &[f64; DIM], k: &Kin, p: [f64; 3]) -> ([f64; DIM], f64) {
         let pb = k.q.rotate_inv(p);
         let dw = self.inv_inertia(cross(k.a_b, pb));
         let mut out = *y;
@@ -357,9 +366,7 @@ impl PlayTop {
         }
         let (t0, r0, _) = self.energy_parts(y);
         let (t1, r1, _) = self.energy_parts(&out);
-        // Rounding may show a gain of ~1e-18 J: the impulse can only take energy.
-        out[13] += ((t0 + r0) - (t1 + r1)).max(0.0);
-        out
+        (out, (t0 + r0) - (t1 + r1))
     }
 
     /// Largest step in flight: a tenth of the time to fall through the tip's radius, and a
@@ -583,19 +590,10 @@ impl PlayTop {
             let pn = -(1.0 + e) * vn / kd[2];
             p = scale(pn, d);
         }
-        let pb = k.q.rotate_inv(p);
-        let dw = self.inv_inertia(cross(k.a_b, pb));
-        let mut out = *y;
-        for i in 0..3 {
-            out[4 + i] += dw[i];
-            out[10 + i] += p[i] / self.m;
-        }
+        let (mut out, loss) = self.apply_impulse(y, &k, p);
+        out[13] += loss;
         // The impact happens on the floor.
         out[9] = self.rho + self.s * k.u;
-        // Kinetic energy lost in the impact is dissipated.
-        let (t0, r0, _) = self.energy_parts(y);
-        let (t1, r1, _) = self.energy_parts(&out);
-        out[13] += (t0 + r0) - (t1 + r1);
         (out, sticks)
     }
 }

@@ -541,8 +541,18 @@ impl LagrangeExact {
             }
             return Ok(());
         }
+        Self::each([th, ph, ps, thd, phd, psd], t, |ti| self.at(ti))
+    }
+
+    /// Fills the six outputs time by time from `state_at`.
+    fn each(
+        out: [&mut [f64]; 6],
+        t: &[f64],
+        state_at: impl Fn(f64) -> Result<EulerState>,
+    ) -> Result<()> {
+        let [th, ph, ps, thd, phd, psd] = out;
         for (i, &ti) in t.iter().enumerate() {
-            let e = self.at(ti)?;
+            let e = state_at(ti)?;
             th[i] = e.theta;
             ph[i] = e.phi;
             ps[i] = e.psi;
@@ -827,17 +837,7 @@ impl LagrangeExact {
     /// Like [`LagrangeExact::eval_into`] but every time by direct evaluation of the elliptic
     /// functions (slow; for checks).
     pub fn eval_direct_into(&self, t: &[f64], out: [&mut [f64]; 6]) -> Result<()> {
-        let [th, ph, ps, thd, phd, psd] = out;
-        for (i, &ti) in t.iter().enumerate() {
-            let e = self.at_direct(ti)?;
-            th[i] = e.theta;
-            ph[i] = e.phi;
-            ps[i] = e.psi;
-            thd[i] = e.theta_dot;
-            phd[i] = e.phi_dot;
-            psd[i] = e.psi_dot;
-        }
-        Ok(())
+        Self::each(out, t, |ti| self.at_direct(ti))
     }
 
     /// [`LagrangeExact::eval_into`] spread over the machine's cores in chunks.

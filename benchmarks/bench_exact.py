@@ -16,12 +16,12 @@ import json
 import math
 import os
 import pathlib
-import time
 
 # No BLAS is timed here; idle OpenBLAS threads would only spin against kreisel's workers.
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 import numpy as np
+from _common import best_of
 from scipy.special import ellipj
 
 import kreisel
@@ -53,15 +53,6 @@ def elliptic_arguments(t):
     return rate * t, k2
 
 
-def best_of(fn, repeats):
-    best = math.inf
-    for _ in range(repeats):
-        start = time.perf_counter()
-        fn()
-        best = min(best, time.perf_counter() - start)
-    return best
-
-
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--n", type=int, default=10**6, help="number of times (default 1e6)")
@@ -79,8 +70,8 @@ def main(argv=None):
     top.exact(state, t[: min(args.n, 1000)])
     ellipj(args_sn[: min(args.n, 1000)], k2)
 
-    kreisel_s = best_of(lambda: top.exact(state, t), args.repeats)
-    peer_s = best_of(lambda: ellipj(args_sn, k2), args.repeats)
+    kreisel_s, _ = best_of(lambda: top.exact(state, t), args.repeats)
+    peer_s, _ = best_of(lambda: ellipj(args_sn, k2), args.repeats)
     ratio = kreisel_s / peer_s
 
     print(f"case {CASE}: n = {args.n}, t in [0, {T_END:g}] s, best of {args.repeats}")

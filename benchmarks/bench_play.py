@@ -27,12 +27,12 @@ import json
 import math
 import os
 import pathlib
-import time
 
 # No BLAS is timed here; idle OpenBLAS threads would only spin against the integrators.
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 import numpy as np
+from _common import best_of, drift
 from scipy.integrate import solve_ivp
 
 import kreisel
@@ -136,15 +136,6 @@ def peer_u_and_jellett(ys):
 # --------------------------------------------------------------------------------------
 
 
-def best_of(fn, repeats):
-    best, out = math.inf, None
-    for _ in range(repeats):
-        start = time.perf_counter()
-        out = fn()
-        best = min(best, time.perf_counter() - start)
-    return best, out
-
-
 def inversion(t, u):
     """(first step time with u > 0, crossing of u = 0 interpolated linearly), nan if none."""
     above = np.flatnonzero(np.asarray(u) > 0.0)
@@ -153,11 +144,6 @@ def inversion(t, u):
     i = int(above[0])
     t0, t1, u0, u1 = t[i - 1], t[i], u[i - 1], u[i]
     return float(t1), float(t0 + (t1 - t0) * (-u0) / (u1 - u0))
-
-
-def drift(x):
-    x = np.asarray(x)
-    return float(np.max(np.abs(x - x[0])) / abs(x[0]))
 
 
 def main(argv=None):

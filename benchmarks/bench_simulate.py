@@ -18,12 +18,12 @@ import json
 import math
 import os
 import pathlib
-import time
 
 # No BLAS is timed here; idle OpenBLAS threads would only spin against the integrators.
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 import numpy as np
+from _common import best_of, quat_to_matrix
 from scipy.integrate import solve_ivp
 
 import kreisel
@@ -75,17 +75,6 @@ def make_rhs():
     return rhs
 
 
-def quat_to_matrix(q):
-    w, x, y, z = np.asarray(q, dtype=float) / np.linalg.norm(q)
-    return np.array(
-        [
-            [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
-            [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
-            [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
-        ]
-    )
-
-
 def euler_matrix(phi, theta, psi):
     def rz(a):
         c, s = math.cos(a), math.sin(a)
@@ -109,15 +98,6 @@ def exact_final(top, state, t_end):
         ]
     )
     return euler_matrix(ph, th, ps), omega
-
-
-def best_of(fn, repeats):
-    best, out = math.inf, None
-    for _ in range(repeats):
-        start = time.perf_counter()
-        out = fn()
-        best = min(best, time.perf_counter() - start)
-    return best, out
 
 
 def main(argv=None):

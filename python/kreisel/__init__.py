@@ -10,19 +10,12 @@ SI units and radians throughout; arrays are numpy arrays.
 
 from . import events
 from ._atlas import Classification, Prediction, RegularPrecession, StationaryMotion
+from ._batch import BatchSummary, HeavyBatchSummary, simulate_many
 from ._core import __version__
 from ._errors import KreiselError, NumericalError, ParameterError
 from ._heavy import HeavyTop, RigidState
 from ._lagrange import LagrangeTop
-from ._play import (
-    BatchSummary,
-    Coulomb,
-    Frictionless,
-    PlayState,
-    PlayTop,
-    Viscous,
-    simulate_many,
-)
+from ._play import Coulomb, Frictionless, PlayState, PlayTop, Viscous
 from ._simulate import Event, EventRecord, MethodInfo, methods, simulate
 from ._state import EulerState, Invariants, NutationAnalysis
 from ._trajectory import Trajectory
@@ -35,6 +28,7 @@ __all__ = [
     "EventRecord",
     "EulerState",
     "Frictionless",
+    "HeavyBatchSummary",
     "HeavyTop",
     "Invariants",
     "KreiselError",

@@ -8,6 +8,7 @@
 //! Conventions (SI units, radians, Euler angles z-x-z with theta from the upward vertical)
 //! are those of the project's PHYSICS notes.
 
+pub mod batch;
 pub mod error;
 pub mod integrate;
 pub mod models;

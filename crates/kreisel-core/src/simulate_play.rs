@@ -444,15 +444,3 @@ pub fn summarise(top: &PlayTop, out: &PlayOutput) -> Summary {
         steps: out.steps,
     }
 }
-
-/// Runs many play-top simulations in parallel on all cores and summarises each. A run that
-/// fails gives its error in place.
-pub fn simulate_many(
-    runs: &[(PlayTop, [f64; DIM])],
-    settings: &PlaySettings,
-) -> Vec<Result<Summary>> {
-    use rayon::prelude::*;
-    runs.par_iter()
-        .map(|(top, y0)| simulate_play(top, *y0, settings).map(|o| summarise(top, &o)))
-        .collect()
-}

@@ -1,5 +1,6 @@
 //! The compiled module `kreisel._core`: PyO3 bindings of kreisel-core, no physics here.
 
+mod batch;
 mod errors;
 mod heavy;
 mod lagrange;
@@ -15,7 +16,8 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<heavy::PyHeavyTop>()?;
     m.add_class::<play::PyPlayTop>()?;
     m.add_class::<stability::PyPlayStability>()?;
-    m.add_function(wrap_pyfunction!(play::simulate_many, m)?)?;
+    m.add_function(wrap_pyfunction!(batch::play_many, m)?)?;
+    m.add_function(wrap_pyfunction!(batch::heavy_many, m)?)?;
     m.add_function(wrap_pyfunction!(lagrange::check_euler_state, m)?)?;
     m.add_function(wrap_pyfunction!(heavy::rigid_from_euler, m)?)?;
     m.add_function(wrap_pyfunction!(heavy::methods, m)?)?;

@@ -36,7 +36,7 @@ fn unpack(y: &[f64; DIM]) -> Packed {
     )
 }
 
-fn settings(
+pub fn settings(
     t_end: f64,
     rtol: f64,
     atol: f64,
@@ -205,49 +205,4 @@ impl PyPlayTop {
         d.set_item("stats", stats)?;
         Ok(d)
     }
-}
-
-/// Many runs in parallel: lists of native tops and packed states of equal length.
-/// Returns columns of the summaries and a list of per-run error messages (None if fine).
-#[pyfunction]
-#[pyo3(signature = (tops, states, t_end, rtol, atol, inversion_level))]
-#[allow(clippy::type_complexity)]
-pub fn simulate_many<'py>(
-    py: Python<'py>,
-    tops: Vec<PyRef<'py, PyPlayTop>>,
-    states: Vec<Packed>,
-    t_end: f64,
-    rtol: f64,
-    atol: f64,
-    inversion_level: f64,
-) -> PyResult<Bound<'py, PyDict>> {
-    let runs: Vec<_> = tops
-        .iter()
-        .zip(&states)
-        .map(|(t, s)| (t.inner, pack(s)))
-        .collect();
-    let st = settings(t_end, rtol, atol, None, Some(inversion_level), false, false);
-    let res = py.detach(move || simulate_play::simulate_many(&runs, &st));
-    let d = PyDict::new(py);
-    let get = |f: &dyn Fn(&simulate_play::Summary) -> f64| -> Vec<f64> {
-        res.iter().map(|r| r.as_ref().map_or(f64::NAN, f)).collect()
-    };
-    d.set_item("final_u", get(&|s| s.final_u).into_pyarray(py))?;
-    d.set_item(
-        "inversion_time",
-        get(&|s| s.inversion_time).into_pyarray(py),
-    )?;
-    d.set_item("jellett_drift", get(&|s| s.jellett_drift).into_pyarray(py))?;
-    d.set_item("energy_drift", get(&|s| s.energy_drift).into_pyarray(py))?;
-    let modes: Vec<&str> = res
-        .iter()
-        .map(|r| r.as_ref().map_or("error", |s| s.final_mode.name()))
-        .collect();
-    d.set_item("final_mode", modes)?;
-    let errors: Vec<Option<String>> = res
-        .iter()
-        .map(|r| r.as_ref().err().map(|e| e.to_string()))
-        .collect();
-    d.set_item("errors", errors)?;
-    Ok(d)
 }

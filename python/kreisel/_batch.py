@@ -1,0 +1,191 @@
+"""Many runs at once: the core's parallel batch, for play tops and heavy tops."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import _core
+from ._errors import ParameterError
+from ._heavy import _Rigid, rigid_state
+from ._play import PlayState, PlayTop, _tolerances
+from ._validate import real
+
+
+@dataclass(frozen=True)
+class BatchSummary:
+    """Per-run summaries of :func:`simulate_many` for play tops, as arrays (one entry per
+    run). A failed run has NaN (mode ``"error"``, steps 0) and its message in ``errors``."""
+
+    final_u: np.ndarray
+    final_mode: np.ndarray
+    inversion_time: np.ndarray
+    jellett_drift: np.ndarray
+    energy_drift: np.ndarray
+    errors: tuple
+    steps: np.ndarray | None = None
+
+    def __len__(self) -> int:
+        return len(self.final_u)
+
+
+@dataclass(frozen=True)
+class HeavyBatchSummary:
+    """Per-run summaries of :func:`simulate_many` for heavy tops, as arrays.
+
+    ``final_theta``, ``theta_min``, ``theta_max`` (rad, over the recorded steps);
+    ``energy_drift`` (largest |E - E0| relative to T0 + m g |c|), ``Mz_drift`` and
+    ``M3_drift`` (relative to |M0|; M3 NaN unless the top is symmetric),
+    ``kovalevskaya_drift`` (relative to |K0|; NaN unless a Kovalevskaya top), ``steps``, and
+    ``errors`` (None for runs that went through)."""
+
+    final_theta: np.ndarray
+    theta_min: np.ndarray
+    theta_max: np.ndarray
+    energy_drift: np.ndarray
+    Mz_drift: np.ndarray
+    M3_drift: np.ndarray
+    kovalevskaya_drift: np.ndarray
+    steps: np.ndarray
+    errors: tuple
+
+    def __len__(self) -> int:
+        return len(self.final_theta)
+
+
+def _threads(threads):
+    if threads is None:
+        return None
+    if isinstance(threads, bool) or not isinstance(threads, (int, np.integer)) or threads < 1:
+        raise ParameterError(
+            f"threads = {threads!r} is not allowed: give a whole number >= 1, or None for "
+            "all cores"
+        )
+    return int(threads)
+
+
+def _broadcast(models, states, single_model, single_state):
+    ms = [models] if isinstance(models, single_model) else list(models)
+    ss = [states] if single_state(states) else list(states)
+    if len(ms) == 1 and len(ss) > 1:
+        ms = ms * len(ss)
+    if len(ss) == 1 and len(ms) > 1:
+        ss = ss * len(ms)
+    if len(ms) != len(ss):
+        raise ParameterError(
+            f"models ({len(ms)}) and states ({len(ss)}) are not allowed: give one of each, "
+            "one and many, or equally many"
+        )
+    return ms, ss
+
+
+def simulate_many(
+    models,
+    states,
+    t_end,
+    *,
+    method="dop853",
+    rtol=1e-10,
+    atol=1e-12,
+    dt=None,
+    inversion_level=0.9,
+    threads=None,
+):
+    """Simulates many tops in parallel (the GIL released) and summarises each run.
+
+    Each run is computed exactly as :func:`simulate` would compute it alone, so the
+    summaries do not depend on the batch, the order or the number of threads.
+
+    Parameters
+    ----------
+    models : PlayTop, HeavyTop or LagrangeTop, or a sequence of one kind
+    states : a state or a sequence of states
+        Broadcast against ``models``: one model with many states, many models with one
+        state, or equal-length sequences.
+    t_end : float
+        Duration (s).
+    method, dt : str, float
+        Heavy tops: any of :func:`methods` (``dt`` for the fixed-step ones). Play tops run
+        the adaptive ``"dop853"`` only.
+    rtol, atol : float
+        Tolerances of the adaptive method.
+    inversion_level : float
+        Play tops: the u level whose first upward crossing is the inversion time.
+    threads : int, optional
+        Threads to use (default: all cores).
+
+    Returns
+    -------
+    BatchSummary (play tops) or HeavyBatchSummary (heavy tops)
+    """
+    first = models if not isinstance(models, (list, tuple)) else (models[0] if models else None)
+    if isinstance(first, _Rigid):
+        return _heavy_many(models, states, t_end, method, rtol, atol, dt, threads)
+    if method != "dop853":
+        raise ParameterError(
+            f"method = {method!r} is not allowed for a PlayTop: its contact modes, events "
+            "and impacts need the adaptive 'dop853'"
+        )
+    ms, ss = _broadcast(models, states, PlayTop, lambda s: isinstance(s, PlayState))
+    for m in ms:
+        if not isinstance(m, PlayTop):
+            raise ParameterError(
+                f"models contains {m!r}, which is not allowed: use PlayTop, HeavyTop or "
+                "LagrangeTop (one kind per batch)"
+            )
+    t_end = _t_end(t_end)
+    rtol, atol = _tolerances(rtol, atol)
+    out = _core.play_many(
+        [m._native for m in ms],
+        [ms[i]._check(s) for i, s in enumerate(ss)],
+        t_end,
+        rtol,
+        atol,
+        real("inversion_level", inversion_level),
+        _threads(threads),
+    )
+    return BatchSummary(
+        final_u=out["final_u"],
+        final_mode=np.array(out["final_mode"]),
+        inversion_time=out["inversion_time"],
+        jellett_drift=out["jellett_drift"],
+        energy_drift=out["energy_drift"],
+        errors=tuple(out["errors"]),
+        steps=out["steps"].astype(np.int64),
+    )
+
+
+def _t_end(t_end):
+    t_end = real("t_end", t_end)
+    if t_end < 0:
+        raise ParameterError(f"t_end = {t_end} is not allowed: it must be >= 0")
+    return t_end
+
+
+def _heavy_many(models, states, t_end, method, rtol, atol, dt, threads):
+    ms, ss = _broadcast(
+        models, states, _Rigid, lambda s: not isinstance(s, (list, tuple, np.ndarray))
+    )
+    for m in ms:
+        if not isinstance(m, _Rigid):
+            raise ParameterError(
+                f"models contains {m!r}, which is not allowed: use HeavyTop or LagrangeTop "
+                "(one kind per batch)"
+            )
+    rs = [rigid_state(s) for s in ss]
+    if not isinstance(method, str):
+        raise ParameterError(f"method = {method!r} is not allowed: give a method name")
+    out = _core.heavy_many(
+        [m._heavy_native() for m in ms],
+        [(list(r.quaternion), list(r.omega)) for r in rs],
+        _t_end(t_end),
+        method,
+        real("rtol", rtol),
+        real("atol", atol),
+        None if dt is None else real("dt", dt),
+        _threads(threads),
+    )
+    steps = out.pop("steps").astype(np.int64)
+    errors = tuple(out.pop("errors"))
+    return HeavyBatchSummary(**out, steps=steps, errors=errors)

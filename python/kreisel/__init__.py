@@ -18,6 +18,7 @@ from ._lagrange import LagrangeTop
 from ._play import Coulomb, Frictionless, PlayState, PlayTop, Viscous
 from ._simulate import Event, EventRecord, MethodInfo, methods, simulate
 from ._state import EulerState, Invariants, NutationAnalysis
+from ._sweep import SweepSpec, open_sweep, sweep
 from ._trajectory import Trajectory
 
 __all__ = [
@@ -43,6 +44,7 @@ __all__ = [
     "RegularPrecession",
     "RigidState",
     "StationaryMotion",
+    "SweepSpec",
     "Trajectory",
     "Viscous",
     "__version__",
@@ -50,4 +52,6 @@ __all__ = [
     "methods",
     "simulate",
     "simulate_many",
+    "sweep",
+    "open_sweep",
 ]

@@ -59,8 +59,7 @@ def _threads(threads):
         return None
     if isinstance(threads, bool) or not isinstance(threads, (int, np.integer)) or threads < 1:
         raise ParameterError(
-            f"threads = {threads!r} is not allowed: give a whole number >= 1, or None for "
-            "all cores"
+            f"threads = {threads!r} is not allowed: give a whole number >= 1, or None for all cores"
         )
     return int(threads)
 

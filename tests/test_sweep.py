@@ -1,0 +1,361 @@
+"""kreisel.sweep: specs, the Zarr store, resuming, and Dask clusters of real processes.
+
+References: every stored summary is compared with ``kreisel.simulate_many`` called directly
+on tops and states built here from the same numbers (an independent path that does not go
+through the spec, the chunking or the store); local and Dask runs must agree bit for bit.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import kreisel
+
+pytest.importorskip("zarr")
+pytest.importorskip("distributed")
+
+M, RHO, S = 0.02, 0.02, 0.006
+C = 0.4 * M * RHO**2
+A = 0.8 * C
+
+
+def play_spec(**over):
+    spec = {
+        "top": {"kind": "play", "m": M, "A": A, "C": C, "rho": RHO, "friction": "viscous",
+                "mu": 1.0},
+        "state": {"theta": np.pi - 0.1},
+        "simulation": {"t_end": 2.5, "rtol": 1e-8},
+        "grid": {"psi_dot": {"start": 80.0, "stop": 200.0, "num": 4}, "s": [0.004, 0.006, 0.008]},
+        "output": {"chunk": 3},
+    }  # fmt: skip
+    for table, values in over.items():
+        spec[table] = values
+    return spec
+
+
+def direct(spec_tables, ds):
+    """simulate_many on tops built here for every grid point of a play spec."""
+    grid = ds["psi_dot"].values, ds["s"].values
+    tops, states = [], []
+    for psi_dot in grid[0]:
+        for s in grid[1]:
+            top = kreisel.PlayTop(M, A, C, s, RHO, friction=kreisel.Viscous(1.0))
+            tops.append(top)
+            states.append(top.state(spec_tables["state"]["theta"], psi_dot=psi_dot))
+    sim = spec_tables["simulation"]
+    return kreisel.simulate_many(tops, states, sim["t_end"], rtol=sim["rtol"])
+
+
+def assert_same(a, b):
+    assert list(a.data_vars) == list(b.data_vars)
+    for name in a.data_vars:
+        np.testing.assert_array_equal(a[name].values, b[name].values, err_msg=name)
+    for name in a.coords:
+        np.testing.assert_array_equal(a[name].values, b[name].values, err_msg=name)
+
+
+# --------------------------------------------------------------------------------------
+# specs
+# --------------------------------------------------------------------------------------
+
+
+def test_grid_layout_and_values_equal_direct_batch(tmp_path):
+    tables = play_spec()
+    ds = kreisel.sweep(tables, tmp_path / "s.zarr", progress=False)
+    assert ds["final_u"].dims == ("psi_dot", "s") and ds["final_u"].shape == (4, 3)
+    np.testing.assert_array_equal(ds["psi_dot"].values, np.linspace(80, 200, 4))
+    ref = direct(tables, ds)
+    np.testing.assert_array_equal(ds["final_u"].values.ravel(), ref.final_u)
+    np.testing.assert_array_equal(ds["inversion_time"].values.ravel(), ref.inversion_time)
+    np.testing.assert_array_equal(ds["jellett_drift"].values.ravel(), ref.jellett_drift)
+    np.testing.assert_array_equal(ds["steps"].values.ravel(), ref.steps)
+    assert list(ds["final_mode"].values.ravel()) == list(ref.final_mode)
+    assert np.all(ds["status"].values == 1)
+    assert ds.attrs["chunks_done"] == ds.attrs["chunks"] == 4
+    # a fast tippe top turns over (u rises through 0.9) within 2.5 s
+    assert np.isfinite(ds["inversion_time"].values).any()
+    # the store alone gives the same dataset back
+    assert_same(kreisel.open_sweep(tmp_path / "s.zarr"), ds)
+
+
+def test_random_samples_are_reproducible_and_crossed_with_the_grid(tmp_path):
+    tables = play_spec(
+        state={},
+        grid={"s": [0.005, 0.007]},
+        random={"n": 5, "seed": 3, "psi_dot": {"low": 50.0, "high": 300.0, "scale": "log"},
+                "theta": {"low": 2.9, "high": 3.1}},
+        output={"chunk": 3, "keep": ["final_u", "inversion_time"]},
+    )  # fmt: skip
+    ds = kreisel.sweep(tables, tmp_path / "r.zarr", progress=False)
+    assert ds["final_u"].dims == ("s", "sample")
+    assert set(ds.data_vars) == {"final_u", "inversion_time", "status"}
+    rng = np.random.default_rng(3)
+    psi = np.exp(rng.uniform(np.log(50.0), np.log(300.0), 5))
+    theta = rng.uniform(2.9, 3.1, 5)
+    np.testing.assert_array_equal(ds["psi_dot"].values, psi)
+    np.testing.assert_array_equal(ds["theta"].values, theta)
+    for i, s in enumerate((0.005, 0.007)):
+        top = kreisel.PlayTop(M, A, C, s, RHO, friction=kreisel.Viscous(1.0))
+        ref = kreisel.simulate_many(
+            top, [top.state(th, psi_dot=p) for th, p in zip(theta, psi)], 2.5, rtol=1e-8
+        )
+        np.testing.assert_array_equal(ds["final_u"].values[i], ref.final_u)
+
+
+def test_heavy_sweep_over_the_centre_of_mass(tmp_path):
+    tables = {
+        "top": {"kind": "heavy", "I1": 2.0, "I2": 2.0, "I3": 1.0, "m": 1.0, "g": 1.0},
+        "state": {"theta": 1.0, "psi_dot": 1.0, "phi_dot": 0.3},
+        "simulation": {"t_end": 5.0, "method": "splitting4", "dt": 1e-3},
+        "grid": {"com_x": [0.0, 0.5], "com_z": [0.0, 0.2]},
+    }
+    ds = kreisel.sweep(tables, tmp_path / "h.zarr", progress=False)
+    # Mz is kept to round-off by the splitting whatever the top
+    assert np.all(ds["Mz_drift"].values < 1e-12)
+    # (com_x, com_z) = (0.5, 0): a Kovalevskaya top (I1 = I2 = 2 I3), K kept to O(dt^4)
+    assert ds["kovalevskaya_drift"].values[1, 0] < 1e-8
+    assert np.isnan(ds["kovalevskaya_drift"].values[1, 1])
+    # (0, 0.2): a Lagrange top, so M3 is an integral; (0.5, 0.2) is not symmetric about e3
+    assert ds["M3_drift"].values[0, 1] < 1e-12 and np.isnan(ds["M3_drift"].values[1, 1])
+    top = kreisel.HeavyTop(2.0, 2.0, 1.0, 1.0, [0.5, 0.0, 0.2], g=1.0)
+    ref = kreisel.simulate_many(top, top.state(1.0, psi_dot=1.0, phi_dot=0.3), 5.0,
+                                method="splitting4", dt=1e-3)  # fmt: skip
+    assert ds["final_theta"].values[1, 1] == ref.final_theta[0]
+
+
+@pytest.mark.parametrize(
+    ("over", "match"),
+    [
+        ({"grid": {"spin": [1.0]}}, "spin is not a parameter that can be swept"),
+        ({"grid": {"psi_dot": []}}, "psi_dot is an empty grid"),
+        ({"grid": {"psi_dot": {"start": 1, "stop": 2, "num": 0}}}, "psi_dot.num = 0"),
+        ({"grid": {"psi_dot": 100.0}}, "single value belongs in"),
+        ({"grid": {}}, "nothing is swept"),
+        ({"grid": {"theta": [3.0]}}, "theta is swept and also fixed in \\[state\\]"),
+        ({"grid": {"s": [0.006], "restitution": [0.5, 1.5]}}, r"\[grid\] restitution = 1.5"),
+        ({"grid": {"s": {"start": 0, "stop": 1, "num": 3, "scale": "log"}}}, "both ends"),
+        ({"random": {"n": 0, "psi_dot": {"low": 1, "high": 2}}}, "n = 0"),
+        ({"random": {"n": 3, "psi_dot": {"low": 2, "high": 1}}}, "need low < high"),
+        ({"output": {"keep": ["final_theta"]}}, "not a summary of a play top"),
+        ({"output": {"chunk": 0}}, "chunk = 0"),
+        ({"simulation": {"t_end": -1.0}}, "t_end"),
+        ({"simulation": {"t_end": 1.0, "exact": True}}, "exact"),
+        ({"plot": {}}, "\\[plot\\] is not a known table"),
+    ],
+)
+def test_bad_specs_fail_at_once_and_touch_no_store(tmp_path, over, match):
+    good = tmp_path / "good.zarr"
+    kreisel.sweep(play_spec(output={"chunk": 6}), good, progress=False)
+    before = {p: p.stat().st_mtime_ns for p in good.rglob("*")}
+    with pytest.raises(kreisel.ParameterError, match=match):
+        kreisel.sweep(play_spec(**over), good, progress=False, overwrite=True)
+    assert {p: p.stat().st_mtime_ns for p in good.rglob("*")} == before
+
+
+def test_a_store_of_another_sweep_or_of_something_else_is_left_alone(tmp_path):
+    store = tmp_path / "s.zarr"
+    kreisel.sweep(play_spec(output={"chunk": 6}), store, progress=False)
+    other = play_spec(simulation={"t_end": 0.5, "rtol": 1e-8}, output={"chunk": 6})
+    with pytest.raises(kreisel.ParameterError, match="holds another sweep"):
+        kreisel.sweep(other, store, progress=False)
+    ds = kreisel.sweep(other, store, progress=False, overwrite=True)
+    assert json.loads(ds.attrs["spec"])["simulation"]["t_end"] == 0.5
+    foreign = tmp_path / "data"
+    foreign.mkdir()
+    (foreign / "notes.txt").write_text("mine")
+    with pytest.raises(kreisel.ParameterError, match="not a kreisel sweep store"):
+        kreisel.sweep(play_spec(), foreign, progress=False, overwrite=True)
+    assert (foreign / "notes.txt").read_text() == "mine"
+    assert sorted(p.name for p in foreign.iterdir()) == ["notes.txt"]
+
+
+def test_unreachable_scheduler_fails_before_the_store_is_created(tmp_path):
+    store = tmp_path / "never.zarr"
+    with pytest.raises(kreisel.ParameterError, match="scheduler = 'tcp://127.0.0.1:9' is not"):
+        kreisel.sweep(play_spec(), store, "tcp://127.0.0.1:9", progress=False, connect_timeout=1)
+    assert not store.exists()
+
+
+def test_runs_that_cannot_start_are_kept_as_failures(tmp_path):
+    # a tip below the floor is a state error of those runs only, not of the sweep
+    tables = play_spec(grid={"height": [0.01, -0.01]}, output={"chunk": 1})
+    tables["top"]["s"] = S
+    tables["state"]["psi_dot"] = 100.0
+    ds = kreisel.sweep(tables, tmp_path / "f.zarr", progress=False)
+    assert list(ds["status"].values) == [1, 2]
+    assert ds["final_mode"].values[1] == "error" and ds["final_mode"].values[0] != "error"
+    errors = json.loads(ds.attrs["run_errors"])
+    assert list(errors) == ["1"] and "height" in errors["1"]
+
+
+# --------------------------------------------------------------------------------------
+# interruption and resume
+# --------------------------------------------------------------------------------------
+
+
+class Stop(Exception):
+    pass
+
+
+def interrupt(tables, store, after: int, scheduler=None) -> list:
+    """Runs a sweep and stops it (an exception from the callback) after ``after`` chunks;
+    returns the chunks written."""
+    seen = []
+
+    def stop(chunk, done, total):
+        seen.append(chunk)
+        if len(seen) == after:
+            raise Stop
+
+    with pytest.raises(Stop):
+        kreisel.sweep(tables, store, scheduler, progress=False, callback=stop)
+    return seen
+
+
+def test_interrupted_sweep_resumes_with_only_the_missing_chunks(tmp_path):
+    tables = play_spec()
+    store = tmp_path / "i.zarr"
+    seen = interrupt(tables, store, 2)
+    partial = kreisel.open_sweep(store)
+    assert partial.attrs["chunks_done"] == 2
+    assert (partial["status"].values == 1).sum() == 6 and (partial["status"].values == 0).sum() == 6
+    assert np.isnan(partial["final_u"].values[partial["status"].values == 0]).all()
+    again = []
+    ds = kreisel.sweep(tables, store, progress=False, callback=lambda k, d, t: again.append(k))
+    assert sorted(again) == sorted(set(range(4)) - set(seen))
+    assert_same(ds, kreisel.sweep(tables, None, progress=False))
+    # complete: a third call computes nothing
+    third = []
+    kreisel.sweep(tables, store, progress=False, callback=lambda k, d, t: third.append(k))
+    assert third == []
+
+
+def test_thread_count_changes_no_bit(tmp_path):
+    a = kreisel.sweep(play_spec(), None, progress=False, threads=1)
+    b = kreisel.sweep(play_spec(output={"chunk": 5}), None, progress=False, threads=2)
+    for name in a.data_vars:
+        np.testing.assert_array_equal(a[name].values, b[name].values)
+
+
+# --------------------------------------------------------------------------------------
+# a real Dask cluster: a scheduler and two workers as separate processes on loopback
+# --------------------------------------------------------------------------------------
+
+
+def _spawn(args, log):
+    return subprocess.Popen(
+        [sys.executable, "-m", *args],
+        stdout=log,
+        stderr=subprocess.STDOUT,
+        cwd=str(Path(__file__).resolve().parent),
+        env={**os.environ, "OPENBLAS_NUM_THREADS": "1"},
+    )
+
+
+class Cluster:
+    def __init__(self, tmp: Path, workers: int = 2):
+        self.log = open(tmp / "cluster.log", "w")  # noqa: SIM115
+        file = tmp / "scheduler.json"
+        self.scheduler = _spawn(
+            ["distributed.cli.dask_scheduler", "--host", "127.0.0.1", "--port", "0",
+             "--dashboard-address", "127.0.0.1:0", "--scheduler-file", str(file)],
+            self.log,
+        )  # fmt: skip
+        deadline = time.time() + 60
+        while not file.exists() and time.time() < deadline:
+            time.sleep(0.1)
+        self.address = json.loads(file.read_text())["address"]
+        self.workers = [
+            _spawn(
+                [
+                    "distributed.cli.dask_worker",
+                    self.address,
+                    "--nthreads",
+                    "1",
+                    "--no-nanny",
+                    "--dashboard-address",
+                    "127.0.0.1:0",
+                    "--memory-limit",
+                    "0",
+                ],
+                self.log,
+            )  # fmt: skip
+            for _ in range(workers)
+        ]
+        from distributed import Client
+
+        with Client(self.address, timeout=30, set_as_default=False) as c:
+            c.wait_for_workers(workers, timeout=60)
+
+    def close(self):
+        for p in (*self.workers, self.scheduler):
+            if p.poll() is None:
+                p.terminate()
+        for p in (*self.workers, self.scheduler):
+            try:
+                p.wait(10)
+            except subprocess.TimeoutExpired:
+                p.kill()
+        self.log.close()
+
+
+@pytest.fixture
+def cluster(tmp_path):
+    c = Cluster(tmp_path)
+    yield c
+    c.close()
+
+
+def test_dask_cluster_equals_local_bit_for_bit(tmp_path, cluster):
+    tables = play_spec()
+    local = kreisel.sweep(tables, tmp_path / "local.zarr", progress=False)
+    remote = kreisel.sweep(tables, tmp_path / "dask.zarr", cluster.address, progress=False)
+    assert_same(local, remote)
+    # a Client works as well as an address
+    from distributed import Client
+
+    with Client(cluster.address, set_as_default=False) as client:
+        again = kreisel.sweep(tables, None, client, progress=False)
+    assert_same(local, again)
+
+
+def test_killing_a_worker_midway_still_completes_every_run(tmp_path, cluster):
+    tables = play_spec(
+        grid={"psi_dot": {"start": 80.0, "stop": 200.0, "num": 8}, "s": [0.004, 0.006, 0.008]},
+        simulation={"t_end": 2.0, "rtol": 1e-8},
+        output={"chunk": 1},
+    )
+    victim = cluster.workers[0]
+    killed_at = []
+
+    def kill_once(chunk, done, total):
+        if victim.poll() is None:
+            os.kill(victim.pid, signal.SIGKILL)
+            victim.wait()
+            killed_at.append(done)
+
+    remote = kreisel.sweep(tables, tmp_path / "k.zarr", cluster.address, progress=False,
+                           callback=kill_once)  # fmt: skip
+    assert victim.poll() is not None and cluster.workers[1].poll() is None
+    assert killed_at == [1]  # in the middle: 23 chunks were still queued or running
+    assert remote.attrs["chunks_done"] == 24 and np.all(remote["status"].values == 1)
+    assert_same(remote, kreisel.sweep(tables, None, progress=False))
+
+
+def test_interrupted_dask_sweep_resumes_locally_with_the_same_bits(tmp_path, cluster):
+    tables = play_spec()
+    store = tmp_path / "d.zarr"
+    count = interrupt(tables, store, 3, cluster.address)
+    rest = []
+    ds = kreisel.sweep(tables, store, progress=False, callback=lambda k, d, t: rest.append(k))
+    assert sorted(rest + count) == list(range(4))
+    assert_same(ds, kreisel.sweep(tables, None, progress=False))

@@ -270,10 +270,23 @@ class Cluster:
              "--dashboard-address", "127.0.0.1:0", "--scheduler-file", str(file)],
             self.log,
         )  # fmt: skip
+        self.workers = []
+        try:
+            self._start(file, workers)
+        except BaseException:
+            self.close()
+            raise
+
+    def _start(self, file: Path, workers: int):
         deadline = time.time() + 60
-        while not file.exists() and time.time() < deadline:
-            time.sleep(0.1)
-        self.address = json.loads(file.read_text())["address"]
+        while time.time() < deadline:
+            try:  # the scheduler may be halfway through writing the file
+                self.address = json.loads(file.read_text())["address"]
+                break
+            except (OSError, ValueError, KeyError):
+                time.sleep(0.1)
+        else:
+            raise RuntimeError(f"no scheduler after 60 s: see {self.log.name}")
         self.workers = [
             _spawn(
                 [
@@ -302,9 +315,10 @@ class Cluster:
                 p.terminate()
         for p in (*self.workers, self.scheduler):
             try:
-                p.wait(10)
+                p.wait(5)
             except subprocess.TimeoutExpired:
                 p.kill()
+                p.wait()
         self.log.close()
 
 

@@ -373,3 +373,71 @@ def test_interrupted_dask_sweep_resumes_locally_with_the_same_bits(tmp_path, clu
     ds = kreisel.sweep(tables, store, progress=False, callback=lambda k, d, t: rest.append(k))
     assert sorted(rest + count) == list(range(4))
     assert_same(ds, kreisel.sweep(tables, None, progress=False))
+
+
+# --------------------------------------------------------------------------------------
+# command line and figure
+# --------------------------------------------------------------------------------------
+
+SPEC_TOML = f"""
+[top]
+kind = "play"
+m = {M}
+A = {A}
+C = {C}
+rho = {RHO}
+friction = "viscous"
+mu = 1.0
+[state]
+theta = 3.0
+[simulation]
+t_end = 2.5
+rtol = 1e-8
+[grid]
+psi_dot = {{start = 80, stop = 200, num = 3}}
+s = [0.004, 0.008]
+"""
+
+
+def test_command_line_writes_store_and_figure_and_resumes(tmp_path, capsys):
+    from kreisel._cli import main
+
+    spec = tmp_path / "tippe.toml"
+    spec.write_text(SPEC_TOML)
+    store = tmp_path / "out.zarr"
+    assert main(["sweep", str(spec), "--store", str(store), "--quiet"]) == 0
+    out = capsys.readouterr().out
+    assert "6 runs of a play top over psi_dot, s (3 x 2): 6 done, 0 failed" in out
+    assert (tmp_path / "out.png").stat().st_size > 10_000
+    ds = kreisel.open_sweep(store)
+    assert ds["final_u"].shape == (3, 2) and np.all(ds["status"].values == 1)
+    # run again: nothing is missing, the same numbers come back
+    assert main(["sweep", str(spec), "--store", str(store), "--quiet", "--no-figure"]) == 0
+    assert_same(kreisel.open_sweep(store), ds)
+    spec.write_text(SPEC_TOML.replace("s = [0.004, 0.008]", "s = []"))
+    assert main(["sweep", str(spec), "--store", str(store), "--quiet"]) == 2
+    assert "s is an empty grid" in capsys.readouterr().err
+
+
+def test_figures_of_grids_samples_and_modes(tmp_path):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from kreisel import plot
+
+    grid = kreisel.sweep(play_spec(), None, progress=False)
+    ax = plot.sweep(grid)
+    assert ax.get_xlabel().startswith(r"$\dot\psi$") and ax.get_ylabel() == "s (m)"
+    ax = plot.sweep(grid, "final_mode")
+    assert [t.get_text() for t in ax.get_legend().get_texts()] == ["slip"]
+    ax = plot.sweep(grid, "final_u", x="s", psi_dot=200.0)
+    assert ax.get_title() == "final_u, psi_dot = 200" and len(ax.lines) == 1
+    samples = kreisel.sweep(
+        play_spec(grid={"s": [0.006]}, random={"n": 4, "psi_dot": {"low": 80, "high": 200}}),
+        None,
+        progress=False,
+    )
+    ax = plot.sweep(samples, "final_u")
+    assert len(ax.collections) == 1 and len(ax.collections[0].get_offsets()) == 4
+    with pytest.raises(kreisel.ParameterError, match="var = 'spin'"):
+        plot.sweep(grid, "spin")

@@ -11,6 +11,7 @@ import sys
 from pathlib import Path
 
 import click
+import numpy as np
 
 from ._config import FRICTIONS, known_presets
 from ._errors import NumericalError, ParameterError
@@ -317,6 +318,65 @@ def atlas(preset, out, **top):
         fig.savefig(written[-1], dpi=110)
         plt.close(fig)
     click.echo(f"wrote {out}/: {', '.join(p.name for p in written)}")
+
+
+@cli.command("sweep", context_settings=_CONTEXT)
+@click.argument("file", type=click.Path(exists=True, dir_okay=False, path_type=Path))
+@click.option(
+    "--store",
+    type=click.Path(path_type=Path),
+    default=None,
+    help="Zarr store of the results [kreisel-out/<file name>.zarr]; rerun to finish it",
+)
+@click.option("--scheduler", default=None, metavar="ADDRESS",
+              help="a Dask scheduler (tcp://host:8786); default: this machine's cores")  # fmt: skip
+@click.option("--threads", type=click.IntRange(1), default=None,
+              help="threads on this machine [all cores]")  # fmt: skip
+@click.option("--var", default=None, help="the summary in the figure [inversion time or theta_max]")
+@click.option("--overwrite", is_flag=True, help="replace a store that holds another sweep")
+@click.option("--no-figure", is_flag=True, help="write no PNG figure")
+@click.option("--quiet", is_flag=True, help="no progress bar")
+def sweep_command(file, store, scheduler, threads, var, overwrite, no_figure, quiet):
+    """Run the sweep a TOML file describes into a Zarr store, and draw it.
+
+    \b
+    [top], [state], [simulation]   as for `kreisel run` (without exact or samples)
+    [grid]     NAME = [values] or {start, stop, num, scale = "linear" | "log"}
+    [random]   n, seed, NAME = {low, high, scale}
+    [output]   keep = [summaries], chunk = runs per chunk, inversion_level
+    An interrupted sweep resumes where it stopped when run again.
+    """
+    import json
+    import time
+
+    from ._sweep import load_spec, sweep
+
+    spec = load_spec(file)
+    store = store or Path("kreisel-out") / f"{file.stem}.zarr"
+    start = time.perf_counter()
+    ds = sweep(spec, store, scheduler, threads=threads, progress=not quiet, overwrite=overwrite)
+    took = time.perf_counter() - start
+    status = ds["status"].values
+    click.echo(
+        f"{spec.size} runs of a {spec.kind} top over {', '.join(spec.dims)} "
+        f"({' x '.join(map(str, spec.shape))}): {int((status == 1).sum())} done, "
+        f"{int((status == 2).sum())} failed, {took:.1f} s; store {store}"
+    )
+    for i, msg in list(json.loads(ds.attrs["run_errors"]).items())[:3]:
+        click.echo(f"  run [{i}] failed: {msg}")
+    if "inversion_time" in ds:
+        inv = np.isfinite(ds["inversion_time"].values)
+        click.echo(f"  turned over: {int(inv.sum())} of {inv.size} runs")
+    if not no_figure:
+        from . import plot
+
+        plt = plot._pyplot()
+        fig, ax = plt.subplots(figsize=(7, 5), constrained_layout=True)
+        plot.sweep(ds, var, ax=ax)
+        png = Path(store).with_suffix(".png")
+        fig.savefig(png, dpi=110)
+        plt.close(fig)
+        click.echo(f"  figure {png}")
 
 
 _EULER = ("theta", "phi", "psi", "theta_dot", "phi_dot", "psi_dot")

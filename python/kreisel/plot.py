@@ -339,3 +339,4 @@ def contact_track(traj, ax=None, *, unit="mm"):
 
 
 from ._plot_atlas import J_R_plot, atlas, vertical_axis_diagram  # noqa: E402, F401
+from ._plot_sweep import sweep  # noqa: E402, F401

@@ -44,6 +44,7 @@ bench: $(EXT)
 	$(PY) benchmarks/bench_mujoco.py
 	$(PY) benchmarks/bench_play.py
 	$(PY) benchmarks/bench_tippe_mujoco.py
+	$(PY) benchmarks/bench_sweep.py
 
 lint: $(DEPS)
 	cargo clippy --all-targets -- -D warnings

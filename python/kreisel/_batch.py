@@ -151,7 +151,7 @@ def simulate_many(
         jellett_drift=out["jellett_drift"],
         energy_drift=out["energy_drift"],
         errors=tuple(out["errors"]),
-        steps=out["steps"].astype(np.int64),
+        steps=np.nan_to_num(out["steps"], nan=0.0).astype(np.int64),
     )
 
 
@@ -185,6 +185,6 @@ def _heavy_many(models, states, t_end, method, rtol, atol, dt, threads):
         None if dt is None else real("dt", dt),
         _threads(threads),
     )
-    steps = out.pop("steps").astype(np.int64)
+    steps = np.nan_to_num(out.pop("steps"), nan=0.0).astype(np.int64)
     errors = tuple(out.pop("errors"))
     return HeavyBatchSummary(**out, steps=steps, errors=errors)

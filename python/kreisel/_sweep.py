@@ -526,7 +526,7 @@ def compute_chunk(spec: dict, values: dict, threads=None) -> dict:
         top, state = _compose(
             kind, spec["top"], spec["state"], {k: v[i] for k, v in values.items()}
         )
-        key = json.dumps(top, sort_keys=True)
+        key = tuple((k, tuple(v) if isinstance(v, list) else v) for k, v in sorted(top.items()))
         try:
             if key not in cache:
                 cache[key] = _config._model(kind, top, "")
@@ -844,20 +844,27 @@ def _results(sp: SweepSpec, payload: dict, todo: list, samples: dict, client, th
     if not todo:
         return
     if client is None:
-        from concurrent.futures import ThreadPoolExecutor
+        from concurrent.futures import FIRST_COMPLETED, ThreadPoolExecutor, wait
 
-        # one chunk at a time on all cores (the GIL is released inside); the store is
-        # written while the next chunk runs
-        with ThreadPoolExecutor(1) as pool:
-            futures = [
-                (k, pool.submit(compute_chunk, payload, sp.chunk_values(k, samples), threads))
+        # `threads` chunks in flight, each on its own core (the GIL is released while the
+        # core's batch runs, so one chunk's set-up in Python overlaps the others' runs);
+        # fewer chunks than cores: the cores are shared out inside each chunk instead
+        cores = threads or os.cpu_count() or 1
+        lanes = max(1, min(cores, len(todo)))
+        inner = max(1, cores // lanes)
+        with ThreadPoolExecutor(lanes) as pool:
+            futures = {
+                pool.submit(compute_chunk, payload, sp.chunk_values(k, samples), inner): k
                 for k in todo
-            ]
+            }
             try:
-                for k, f in futures:
-                    yield k, f.result()
+                pending = set(futures)
+                while pending:
+                    finished, pending = wait(pending, return_when=FIRST_COMPLETED)
+                    for f in sorted(finished, key=futures.get):
+                        yield futures[f], f.result()
             finally:
-                for _, f in futures:
+                for f in futures:
                     f.cancel()
         return
     from distributed import as_completed

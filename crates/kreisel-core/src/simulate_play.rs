@@ -269,6 +269,7 @@ pub fn simulate_play(top: &PlayTop, y0: [f64; DIM], settings: &PlaySettings) -> 
                     dir = [-c.ft[0] / ft, -c.ft[1] / ft, 0.0];
                 }
                 mode = if slip_normal(top, &y, dir) < 0.0 {
+                    hop = f64::INFINITY;
                     Mode::Flight
                 } else {
                     Mode::Slip
@@ -301,8 +302,10 @@ pub fn simulate_play(top: &PlayTop, y0: [f64; DIM], settings: &PlaySettings) -> 
                     Mode::Slip
                 };
                 if mode == Mode::Slip && slip_normal(top, &y, dir) < 0.0 {
-                    // Sliding would need the floor to pull: the top leaves it again.
+                    // Sliding would need the floor to pull: the top leaves it again, with
+                    // no normal speed, so the flight's length is not known in advance.
                     mode = Mode::Flight;
+                    hop = f64::INFINITY;
                 }
                 if mode != Mode::Flight {
                     let k = top.kin(&y);

@@ -1,0 +1,118 @@
+"""Benchmark S1: a sweep of 10^4 play-top runs, locally on 1 and 2 cores and through Dask.
+
+    python benchmarks/bench_sweep.py [--runs N] [--t-end T] [--chunk C]
+
+A tippe top (case T1's top: m = 0.02 kg, rho = 0.02 m, s = 0.006 m, C = 0.4 m rho^2,
+A = 0.8 C, viscous friction mu = 1 s/m) swept on a square grid of theta (2.8 to 3.1 rad)
+and psi_dot (100 to 250 rad/s), each run integrated for T = 3 s at rtol 1e-8, every summary
+kept, into a fresh Zarr store on disk. The same kreisel.sweep call is timed three ways in
+one run, with time.perf_counter:
+
+- local on 1 core (threads=1) and on 2 cores (threads=2): the scaling is their ratio;
+- through Dask: a LocalCluster of two worker processes with one thread each, started (and
+  warmed up with one small sweep) before the clock starts, so the overhead measured is that
+  of the scheduling, the transfers and the writes, against the local 2-core run.
+
+The three datasets must agree bit for bit. Result: benchmarks/results-sweep.json.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import pathlib
+import shutil
+import tempfile
+import time
+
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+
+import numpy as np
+
+import kreisel
+
+CASE = "S1"
+M, RHO, S = 0.02, 0.02, 0.006
+C = 0.4 * M * RHO**2
+A = 0.8 * C
+OUT = pathlib.Path(__file__).resolve().parent / "results-sweep.json"
+
+
+def spec(runs: int, t_end: float, chunk: int) -> dict:
+    side = int(round(math.sqrt(runs)))
+    return {
+        "top": {"kind": "play", "m": M, "A": A, "C": C, "s": S, "rho": RHO,
+                "friction": "viscous", "mu": 1.0},
+        "state": {},
+        "simulation": {"t_end": t_end, "rtol": 1e-8, "atol": 1e-12},
+        "grid": {"theta": {"start": 2.8, "stop": 3.1, "num": side},
+                 "psi_dot": {"start": 100.0, "stop": 250.0, "num": runs // side}},
+        "output": {"chunk": chunk},
+    }  # fmt: skip
+
+
+def timed(fn):
+    start = time.perf_counter()
+    out = fn()
+    return time.perf_counter() - start, out
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--runs", type=int, default=10_000)
+    parser.add_argument("--t-end", type=float, default=3.0)
+    parser.add_argument("--chunk", type=int, default=250)
+    args = parser.parse_args(argv)
+    from distributed import Client, LocalCluster
+
+    sp = kreisel.SweepSpec.from_tables(spec(args.runs, args.t_end, args.chunk))
+    tmp = pathlib.Path(tempfile.mkdtemp(prefix="kreisel-bench-sweep-"))
+    try:
+        t1, one = timed(lambda: kreisel.sweep(sp, tmp / "one.zarr", threads=1, progress=False))
+        t2, two = timed(lambda: kreisel.sweep(sp, tmp / "two.zarr", threads=2, progress=False))
+        start = time.perf_counter()
+        cluster = LocalCluster(
+            n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
+        )
+        with cluster, Client(cluster) as client:
+            warm = kreisel.SweepSpec.from_tables(spec(16, 0.1, 4))
+            kreisel.sweep(warm, None, client, progress=False)
+            startup = time.perf_counter() - start
+            td, dk = timed(lambda: kreisel.sweep(sp, tmp / "dask.zarr", client, progress=False))
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+    for name in one.data_vars:
+        for other in (two, dk):
+            a, b = one[name].values, other[name].values
+            if not np.array_equal(a, b, equal_nan=a.dtype.kind == "f"):
+                raise SystemExit(f"{name} differs between the runs: not bit for bit")
+    inverted = int(np.isfinite(one["inversion_time"].values).sum())
+    res = {
+        "case": CASE,
+        "runs": sp.size,
+        "chunks": sp.n_chunks,
+        "t_end": args.t_end,
+        "local_1_core_s": t1,
+        "local_2_cores_s": t2,
+        "dask_2_workers_s": td,
+        "dask_startup_s": startup,
+        "scaling": t1 / t2,
+        "dask_overhead": td / t2 - 1,
+        "bit_for_bit": True,
+        "inverted": inverted,
+        "steps_mean": float(one["steps"].values.mean()),
+    }
+    OUT.write_text(json.dumps(res, indent=2))
+    print(f"S1: {sp.size} play-top runs of {args.t_end} s in {sp.n_chunks} chunks")
+    print(f"  local, 1 core     {t1:8.2f} s")
+    print(f"  local, 2 cores    {t2:8.2f} s   scaling {t1 / t2:.2f}x")
+    print(f"  Dask, 2 workers   {td:8.2f} s   overhead {100 * (td / t2 - 1):+.1f} % "
+          f"(cluster start-up {startup:.1f} s, not counted)")  # fmt: skip
+    print(f"  bit for bit equal: yes; {inverted} of {sp.size} tops turned over")
+    return res
+
+
+if __name__ == "__main__":
+    main()

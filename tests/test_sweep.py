@@ -195,6 +195,15 @@ def test_runs_that_cannot_start_are_kept_as_failures(tmp_path):
     assert ds["final_mode"].values[1] == "error" and ds["final_mode"].values[0] != "error"
     errors = json.loads(ds.attrs["run_errors"])
     assert list(errors) == ["1"] and "height" in errors["1"]
+    # a rerun leaves them; retry_failed computes (only) their chunk again
+    again = []
+    kreisel.sweep(tables, tmp_path / "f.zarr", progress=False, callback=lambda *a: again.append(a))
+    assert again == []
+    retried = kreisel.sweep(tables, tmp_path / "f.zarr", progress=False, retry_failed=True,
+                            callback=lambda *a: again.append(a[0]))  # fmt: skip
+    assert again == [1]
+    assert_same(retried, ds)
+    assert retried.attrs["run_errors"] == ds.attrs["run_errors"]
 
 
 # --------------------------------------------------------------------------------------

@@ -334,9 +334,10 @@ def atlas(preset, out, **top):
               help="threads on this machine [all cores]")  # fmt: skip
 @click.option("--var", default=None, help="the summary in the figure [inversion time or theta_max]")
 @click.option("--overwrite", is_flag=True, help="replace a store that holds another sweep")
+@click.option("--retry-failed", is_flag=True, help="compute the chunks with failed runs again")
 @click.option("--no-figure", is_flag=True, help="write no PNG figure")
 @click.option("--quiet", is_flag=True, help="no progress bar")
-def sweep_command(file, store, scheduler, threads, var, overwrite, no_figure, quiet):
+def sweep_command(file, store, scheduler, threads, var, overwrite, retry_failed, no_figure, quiet):
     """Run the sweep a TOML file describes into a Zarr store, and draw it.
 
     \b
@@ -354,7 +355,15 @@ def sweep_command(file, store, scheduler, threads, var, overwrite, no_figure, qu
     spec = load_spec(file)
     store = store or Path("kreisel-out") / f"{file.stem}.zarr"
     start = time.perf_counter()
-    ds = sweep(spec, store, scheduler, threads=threads, progress=not quiet, overwrite=overwrite)
+    ds = sweep(
+        spec,
+        store,
+        scheduler,
+        threads=threads,
+        progress=not quiet,
+        overwrite=overwrite,
+        retry_failed=retry_failed,
+    )
     took = time.perf_counter() - start
     status = ds["status"].values
     click.echo(

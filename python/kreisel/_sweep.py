@@ -689,11 +689,16 @@ def _write(root, spec: SweepSpec, k: int, result: dict):
     shape = tuple(s.stop - s.start for s in sl)
     for name in (*spec.keep, "status"):
         root[name][sl] = np.asarray(result[name]).reshape(shape)
-    if result["errors"]:
-        errs = json.loads(root.attrs.get("run_errors", "{}"))
-        for i, msg in result["errors"].items():
-            at = tuple(int(s.start + j) for s, j in zip(sl, np.unravel_index(int(i), shape)))
-            errs[",".join(map(str, at))] = msg
+    errs = json.loads(root.attrs.get("run_errors", "{}"))
+    n = len(errs)
+    for i in range(int(np.prod(shape))):  # a rewritten chunk's old messages go
+        at = tuple(int(s.start + j) for s, j in zip(sl, np.unravel_index(i, shape)))
+        key = ",".join(map(str, at))
+        if i in result["errors"]:
+            errs[key] = result["errors"][i]
+        else:
+            errs.pop(key, None)
+    if errs or n:
         root.attrs["run_errors"] = json.dumps(errs, sort_keys=True)
     root["chunk_done"][k] = 1
 
@@ -764,6 +769,7 @@ def sweep(
     progress=True,
     callback=None,
     overwrite=False,
+    retry_failed=False,
     connect_timeout=10.0,
 ):
     """Runs a sweep and returns its results as an ``xarray.Dataset``.
@@ -788,6 +794,9 @@ def sweep(
         it stops the sweep (the chunks written so far stay).
     overwrite : bool
         Replace a store that holds another sweep.
+    retry_failed : bool
+        Compute again the chunks that hold failed runs (after a fix, say); their messages
+        are dropped from ``run_errors`` as the chunks are rewritten.
     connect_timeout : float
         Seconds to wait for the scheduler.
     """
@@ -819,6 +828,11 @@ def sweep(
         if root is None:
             root = _create(store, sp, samples)
         done = root["chunk_done"][:]
+        if retry_failed:
+            failed = root["status"][:] == 2
+            for k in range(sp.n_chunks):
+                if done[k] and failed[sp.chunk_slices(k)].any():
+                    done[k] = 0
         todo = [k for k in range(sp.n_chunks) if not done[k]]
         payload = sp.as_dict()
         runs = {k: int(np.prod([s.stop - s.start for s in sp.chunk_slices(k)])) for k in todo}

@@ -188,3 +188,23 @@ def _heavy_many(models, states, t_end, method, rtol, atol, dt, threads):
     steps = np.nan_to_num(out.pop("steps"), nan=0.0).astype(np.int64)
     errors = tuple(out.pop("errors"))
     return HeavyBatchSummary(**out, steps=steps, errors=errors)
+
+
+def _lyapunov_many(models, states, t_end, *, tau, d0, direction, rtol, atol, threads=None):
+    """Largest Lyapunov exponents of heavy tops in parallel: (exponents, errors)."""
+    ms, ss = _broadcast(
+        models, states, _Rigid, lambda s: not isinstance(s, (list, tuple, np.ndarray))
+    )
+    rs = [rigid_state(s) for s in ss]
+    out = _core.lyapunov_many(
+        [m._heavy_native() for m in ms],
+        [(list(r.quaternion), list(r.omega)) for r in rs],
+        _t_end(t_end),
+        real("tau", tau),
+        real("d0", d0),
+        [real("direction", x) for x in direction],
+        real("rtol", rtol),
+        real("atol", atol),
+        _threads(threads),
+    )
+    return out["lyapunov"], tuple(out["errors"])

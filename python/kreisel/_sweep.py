@@ -45,7 +45,12 @@ SUMMARIES = {
     "heavy": ("final_theta", "theta_min", "theta_max", "energy_drift", "Mz_drift", "M3_drift",
               "kovalevskaya_drift", "steps"),
 }  # fmt: skip
+DEFAULT_KEEP = dict(SUMMARIES)
+SUMMARIES["heavy"] = (*SUMMARIES["heavy"], "lyapunov")  # on request: it costs two more runs
 SUMMARIES["lagrange"] = SUMMARIES["heavy"]
+DEFAULT_KEEP["lagrange"] = DEFAULT_KEEP["heavy"]
+LYAPUNOV_D0 = 1e-9
+LYAPUNOV_DIRECTION = (1.0, 1.0, 1.0, 1.0, 1.0, 1.0)
 DESCRIPTIONS = {
     "final_u": "u = cos(theta) at the end",
     "final_mode": "contact mode at the end",
@@ -59,11 +64,12 @@ DESCRIPTIONS = {
     "Mz_drift": "largest change of Mz relative to |M0|",
     "M3_drift": "largest change of M3 relative to |M0| (NaN unless symmetric)",
     "kovalevskaya_drift": "largest relative change of Kovalevskaya's K (NaN unless such a top)",
+    "lyapunov": "largest Lyapunov exponent (1/s), Benettin's renormalisation over t_end",
 }
 MODES = ("slip", "roll", "flight")
 MODE_PENDING, MODE_ERROR = -1, -2
 SWEEP_TABLES = (*_config.TABLES, "grid", "random", "output")
-OUTPUT_FIELDS = ("keep", "chunk", "inversion_level")
+OUTPUT_FIELDS = ("keep", "chunk", "inversion_level", "lyapunov_tau")
 DEFAULT_CHUNK = 256
 MAX_RUNS = 100_000_000
 FORMAT = "kreisel-sweep/1"
@@ -87,6 +93,7 @@ class SweepSpec:
     keep: tuple
     chunk: int
     inversion_level: float
+    lyapunov_tau: float = 1.0
 
     # ----------------------------------------------------------------------------------
     # construction
@@ -174,7 +181,7 @@ class SweepSpec:
         }
         out = dict(tables.get("output", {}))
         _config._check_fields(f"{head}[output] ", out, OUTPUT_FIELDS, "of the output")
-        keep = out.get("keep", list(SUMMARIES[kind]))
+        keep = out.get("keep", list(DEFAULT_KEEP[kind]))
         if isinstance(keep, str) or not isinstance(keep, (list, tuple)) or not keep:
             raise ParameterError(
                 f"{head}[output] keep = {keep!r} is not allowed: give a non-empty list of "
@@ -198,6 +205,17 @@ class SweepSpec:
             raise ParameterError(
                 f"{head}[output] inversion_level = {level} is not allowed: it must lie in [-1, 1]"
             )
+        lyapunov_tau = _config._real(f"{head}[output] ", "lyapunov_tau",
+                                     out.get("lyapunov_tau", min(1.0, sim["t_end"])))  # fmt: skip
+        if "lyapunov_tau" in out and "lyapunov" not in keep:
+            raise ParameterError(
+                f"{head}[output] lyapunov_tau is given but lyapunov is not kept: add it to keep"
+            )
+        if not 0 < lyapunov_tau <= sim["t_end"]:
+            raise ParameterError(
+                f"{head}[output] lyapunov_tau = {lyapunov_tau} is not allowed: it must lie in "
+                f"(0, t_end = {sim['t_end']}]"
+            )
         spec = cls(
             kind,
             top,
@@ -210,6 +228,7 @@ class SweepSpec:
             tuple(dict.fromkeys(keep)),
             int(chunk),
             level,
+            lyapunov_tau,
         )
         if spec.size > MAX_RUNS:
             raise ParameterError(
@@ -326,6 +345,7 @@ class SweepSpec:
             "keep": list(self.keep),
             "chunk": self.chunk,
             "inversion_level": self.inversion_level,
+            "lyapunov_tau": self.lyapunov_tau,
         }
 
     def canonical(self) -> str:
@@ -516,7 +536,7 @@ def compute_chunk(spec: dict, values: dict, threads=None) -> dict:
 
     ``spec`` is :meth:`SweepSpec.as_dict`, ``values`` the swept values of each run.
     """
-    from ._batch import simulate_many
+    from ._batch import _lyapunov_many, simulate_many
 
     kind = spec["kind"]
     n = len(next(iter(values.values())))
@@ -549,14 +569,26 @@ def compute_chunk(spec: dict, values: dict, threads=None) -> dict:
         else:
             kw.update(method=sim.get("method", "dop853"), dt=sim.get("dt"))
         t_end = sim.get("t_end", _config.DEFAULT_T_END[kind])
-        res = simulate_many(models, states, t_end, **kw)
+        kept_here = [k for k in kept if k != "lyapunov"]
+        res = simulate_many(models, states, t_end, **kw) if kept_here else None
         idx = np.array(where)
-        for name in kept:
+        if "lyapunov" in kept:
+            lam, lam_errors = _lyapunov_many(
+                models, states, t_end, tau=spec["lyapunov_tau"], d0=LYAPUNOV_D0,
+                direction=LYAPUNOV_DIRECTION, rtol=kw["rtol"], atol=kw["atol"], threads=threads,
+            )  # fmt: skip
+            out["lyapunov"][idx] = lam
+            res_errors = lam_errors if res is None else res.errors
+            if res is not None:
+                res_errors = tuple(a or b for a, b in zip(res.errors, lam_errors))
+        else:
+            res_errors = res.errors
+        for name in kept_here:
             col = getattr(res, name)
             if name == "final_mode":
                 col = np.array([MODES.index(m) if m in MODES else MODE_ERROR for m in col])
             out[name][idx] = col
-        for j, msg in enumerate(res.errors):
+        for j, msg in enumerate(res_errors):
             if msg is None:
                 status[where[j]] = 1
             else:

@@ -6,6 +6,7 @@
 //! for bit however the work is split. That is what lets a sweep be cut into chunks and
 //! spread over threads, processes or machines.
 
+use crate::chaos::{self, LyapunovSettings};
 use crate::error::{KreiselError, Result};
 use crate::models::heavy_top::{HeavyTop, RigidState};
 use crate::models::play_top::{PlayTop, DIM};
@@ -128,6 +129,17 @@ pub fn heavy_many(
     par_map(runs, threads, |(top, s0)| {
         simulate::simulate(top, s0, settings, &mut [], false, &mut |_| true)
             .map(|o| summarise_heavy(top, &o.states, o.stats.steps))
+    })
+}
+
+/// Heavy tops: the largest Lyapunov exponent of every run (see [`chaos::lyapunov`]).
+pub fn lyapunov_many(
+    runs: &[(HeavyTop, RigidState)],
+    settings: &LyapunovSettings,
+    threads: Option<usize>,
+) -> Result<Vec<Result<f64>>> {
+    par_map(runs, threads, |(top, s0)| {
+        chaos::lyapunov(top, s0, settings).map(|l| l.exponent)
     })
 }
 

@@ -9,6 +9,7 @@
 //! are those of the project's PHYSICS notes.
 
 pub mod batch;
+pub mod chaos;
 pub mod error;
 pub mod integrate;
 pub mod models;

@@ -1,10 +1,10 @@
 //! Bindings of the parallel batches: conversion only. The GIL is released while the runs go.
 
 use crate::errors::IntoPyResult;
-use crate::heavy::PyHeavyTop;
+use crate::heavy::{lyapunov_settings, PyHeavyTop};
 use crate::play::{pack, settings, Packed, PyPlayTop};
 use kreisel_core::batch;
-use kreisel_core::models::heavy_top::RigidState;
+use kreisel_core::models::heavy_top::{HeavyTop, RigidState};
 use kreisel_core::simulate::Settings;
 use numpy::IntoPyArray;
 use pyo3::prelude::*;
@@ -89,12 +89,7 @@ pub fn heavy_many<'py>(
     dt: Option<f64>,
     threads: Option<usize>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let runs = tops
-        .iter()
-        .zip(&states)
-        .map(|(t, (q, w))| Ok((t.inner, RigidState::new(*q, *w)?)))
-        .collect::<kreisel_core::Result<Vec<_>>>()
-        .py(py)?;
+    let runs = heavy_runs(py, &tops, &states)?;
     let st = Settings {
         method,
         t_end,
@@ -120,4 +115,40 @@ pub fn heavy_many<'py>(
             ("steps", &|s| s.steps as f64),
         ],
     )
+}
+
+/// Largest Lyapunov exponents of heavy tops in parallel (NaN and a message where one fails).
+#[pyfunction]
+#[pyo3(signature = (tops, states, t_end, tau, d0, direction, rtol, atol, threads=None))]
+#[allow(clippy::too_many_arguments)]
+pub fn lyapunov_many<'py>(
+    py: Python<'py>,
+    tops: Vec<PyRef<'py, PyHeavyTop>>,
+    states: Vec<([f64; 4], [f64; 3])>,
+    t_end: f64,
+    tau: f64,
+    d0: f64,
+    direction: [f64; 6],
+    rtol: f64,
+    atol: f64,
+    threads: Option<usize>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let runs = heavy_runs(py, &tops, &states)?;
+    let st = lyapunov_settings(t_end, tau, d0, direction, rtol, atol);
+    let res = py
+        .detach(move || batch::lyapunov_many(&runs, &st, threads))
+        .py(py)?;
+    columns(py, &res, &[("lyapunov", &|x| *x)])
+}
+
+fn heavy_runs(
+    py: Python<'_>,
+    tops: &[PyRef<'_, PyHeavyTop>],
+    states: &[([f64; 4], [f64; 3])],
+) -> PyResult<Vec<(HeavyTop, RigidState)>> {
+    tops.iter()
+        .zip(states)
+        .map(|(t, (q, w))| Ok((t.inner, RigidState::new(*q, *w)?)))
+        .collect::<kreisel_core::Result<Vec<_>>>()
+        .py(py)
 }

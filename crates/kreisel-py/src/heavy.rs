@@ -1,6 +1,7 @@
 //! Bindings of heavy tops and their simulation: conversion only.
 
 use crate::errors::IntoPyResult;
+use kreisel_core::chaos::{self, LyapunovSettings};
 use kreisel_core::models::heavy_top::{HeavyTop, RigidState};
 use kreisel_core::rotation::{omega_body_from_euler, quaternion_from_euler};
 use kreisel_core::simulate::{self, EventDef, EventKind, Settings};
@@ -153,6 +154,51 @@ impl PyHeavyTop {
         stats.set_item("rhs_evals", out.stats.rhs_evals)?;
         d.set_item("stats", stats)?;
         Ok(d)
+    }
+
+    /// The largest Lyapunov exponent (Benettin): the estimate and its history.
+    #[pyo3(signature = (q, omega, t_end, tau, d0, direction, rtol, atol))]
+    #[allow(clippy::too_many_arguments)]
+    fn lyapunov<'py>(
+        &self,
+        py: Python<'py>,
+        q: [f64; 4],
+        omega: [f64; 3],
+        t_end: f64,
+        tau: f64,
+        d0: f64,
+        direction: [f64; 6],
+        rtol: f64,
+        atol: f64,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let s0 = rigid(py, q, omega)?;
+        let st = lyapunov_settings(t_end, tau, d0, direction, rtol, atol);
+        let top = self.inner;
+        let res = py.detach(move || chaos::lyapunov(&top, &s0, &st)).py(py)?;
+        let d = PyDict::new(py);
+        d.set_item("exponent", res.exponent)?;
+        d.set_item("t", res.t.into_pyarray(py))?;
+        d.set_item("running", res.running.into_pyarray(py))?;
+        Ok(d)
+    }
+}
+
+/// The core's settings of a Lyapunov estimate.
+pub fn lyapunov_settings(
+    t_end: f64,
+    tau: f64,
+    d0: f64,
+    direction: [f64; 6],
+    rtol: f64,
+    atol: f64,
+) -> LyapunovSettings {
+    LyapunovSettings {
+        t_end,
+        tau,
+        d0,
+        direction,
+        rtol,
+        atol,
     }
 }
 

@@ -77,6 +77,7 @@ def test_demo_writes_its_report_figures_and_gif(tmp_path):
         "tippe_top.png",
         "tippe_track.png",
         "tippe_top.gif",
+        "tippe_sweep.png",
         "report.md",
     ]
     for name in expected:
@@ -90,6 +91,11 @@ def test_demo_writes_its_report_figures_and_gif(tmp_path):
     for kind in ("waves", "cusps", "loops"):
         assert f"| {kind} | {kind} |" in report
     assert gif_frames(out / "tippe_top.gif") == 60
+    from kreisel import open_sweep
+
+    sweep = open_sweep(out / "tippe_sweep.zarr")
+    assert sweep["final_u"].shape == (12, 12) and (sweep["status"].values == 1).all()
+    assert f"{np.isfinite(sweep['inversion_time'].values).sum()} turn over" in report
 
 
 def test_lagrange_preset_writes_netcdf_summary_figures_and_gif(tmp_path):
@@ -284,11 +290,23 @@ def test_the_readme_toml_example_runs(tmp_path):
     import re
 
     readme = (Path(__file__).resolve().parents[1] / "README.md").read_text()
-    (block,) = re.findall(r"```toml\n(.*?)```", readme, flags=re.S)
+    block, sweep_block = re.findall(r"```toml\n(.*?)```", readme, flags=re.S)
     path = tmp_path / "top.toml"
     path.write_text(block)
     proc = kreisel("run", path, "--no-figures", "--out", tmp_path / "o")
     assert "u rose through 0.9" in proc.stdout
+    # the sweep tables on the run file with its swept fields left out, as the README says
+    from kreisel import SweepSpec
+    from kreisel._config import read_toml
+
+    path.write_text(block + sweep_block)
+    tables = read_toml(path)
+    for table in ("top", "state"):
+        for name in list(tables[table]):
+            if name in tables["grid"] or name in tables["random"]:
+                del tables[table][name]
+    spec = SweepSpec.from_tables(tables)
+    assert spec.dims == ("s", "psi_dot", "sample") and spec.size == 23 * 4 * 1000
 
 
 def test_another_friction_law_takes_its_own_coefficient(tmp_path):

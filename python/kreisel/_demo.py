@@ -72,6 +72,7 @@ def demo(out: Path, *, animation: bool = True, progress=None) -> Path:
     print(f"wrote {path} and {path2}")
     tippe = _demo_tippe(out, animation=animation, progress=progress)
     tippe["atlas"] = _demo_atlas(out)
+    tippe["sweep"] = _demo_sweep(out, progress=progress)
     report = _report(out, top, rows, tippe)
     print(f"wrote {report}")
     return report
@@ -163,6 +164,46 @@ def _demo_atlas(out: Path) -> str:
     return path.name
 
 
+def _demo_sweep(out: Path, *, progress) -> dict:
+    import shutil
+
+    import numpy as np
+
+    from . import plot
+    from ._sweep import sweep
+
+    # The same tippe top over a grid of centre-of-mass offsets and spins: which turn over?
+    m, rho = 0.02, 0.02
+    c = 0.4 * m * rho**2
+    spec = {
+        "top": {"kind": "play", "m": m, "A": 0.8 * c, "C": c, "rho": rho,
+                "friction": "viscous", "mu": 1.0},
+        "state": {"theta": np.pi - 0.1},
+        "simulation": {"t_end": 5.0, "rtol": 1e-8},
+        "grid": {"s": {"start": 0.001, "stop": 0.012, "num": 12},
+                 "psi_dot": {"start": 30.0, "stop": 250.0, "num": 12, "scale": "log"}},
+        "output": {"chunk": 24},
+    }  # fmt: skip
+    store = out / "tippe_sweep.zarr"
+    shutil.rmtree(store, ignore_errors=True)
+    ds = sweep(spec, store, progress=progress is not None)
+    turned = int(np.isfinite(ds["inversion_time"].values).sum())
+    print(
+        f"kreisel demo: swept {ds['final_u'].size} tippe tops over (s, psi_dot) into {store}: "
+        f"{turned} turn over within 5 s"
+    )
+    plt = plot._pyplot()
+    fig, ax = plt.subplots(figsize=(7, 5), constrained_layout=True)
+    plot.sweep(ds, "inversion_time", ax, x="psi_dot", y="s")
+    ax.set_xscale("log")
+    path = out / "tippe_sweep.png"
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    print(f"wrote {path}")
+    return {"figure": path.name, "store": store.name, "runs": int(ds["final_u"].size),
+            "turned": turned}  # fmt: skip
+
+
 def _report(out: Path, top, rows, tippe) -> Path:
     from . import __version__
 
@@ -219,6 +260,15 @@ def _report(out: Path, top, rows, tippe) -> Path:
         "the stationary motions open to its Jellett integral.",
         "",
         f"![Atlas and J_R]({tippe['atlas']})",
+        "",
+        "## Which tippe tops turn over: a sweep",
+        "",
+        f"{tippe['sweep']['runs']} runs over the centre-of-mass offset s and the spin, in the "
+        f"Zarr store `{tippe['sweep']['store']}` (open it with `kreisel.open_sweep`); "
+        f"{tippe['sweep']['turned']} turn over within 5 s. Bigger sweeps: `kreisel sweep "
+        "spec.toml`, on a Dask cluster with `--scheduler`.",
+        "",
+        f"![Inversion time over (psi_dot, s)]({tippe['sweep']['figure']})",
         "",
         "More: `kreisel presets`, `kreisel play --preset tippe --animate mp4`, "
         "`kreisel run top.toml`.",

@@ -450,3 +450,26 @@ def test_figures_of_grids_samples_and_modes(tmp_path):
     assert len(ax.collections) == 1 and len(ax.collections[0].get_offsets()) == 4
     with pytest.raises(kreisel.ParameterError, match="var = 'spin'"):
         plot.sweep(grid, "spin")
+
+
+def test_exact_lagrange_sweep_maps_the_kinds_of_motion(tmp_path):
+    lag = {"kind": "lagrange", "I1": 1.75e-4, "I3": 2.0e-5, "m": 0.1, "l": 0.04}
+    top = kreisel.LagrangeTop(1.75e-4, 2.0e-5, 0.1, 0.04)
+    slow = top.steady_precession(0.6, 300.0)[0]
+    tables = {
+        "top": lag,
+        "state": {"theta": 0.6, "psi_dot": 300.0},
+        "simulation": {"exact": True},
+        "grid": {"phi_dot": [-0.5 * slow, 0.0, 0.3 * slow]},
+    }
+    ds = kreisel.sweep(tables, tmp_path / "kinds.zarr", progress=False)
+    # below zero: loops; zero: cusps; between zero and the slow steady rate: waves
+    assert list(ds["motion_kind"].values) == ["loops", "cusps", "waves"]
+    for i, w in enumerate(ds["phi_dot"].values):
+        a = top.analyse(top.state(0.6, phi_dot=w, psi_dot=300.0))
+        assert ds["nutation_period"].values[i] == a.nutation_period
+        assert ds["theta_max"].values[i] == a.theta_max
+    with pytest.raises(kreisel.ParameterError, match="only a lagrange top"):
+        kreisel.sweep(play_spec(simulation={"exact": True}), None, progress=False)
+    with pytest.raises(kreisel.ParameterError, match="not a summary of the exact solution"):
+        kreisel.sweep({**tables, "output": {"keep": ["steps"]}}, None, progress=False)

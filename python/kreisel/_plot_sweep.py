@@ -89,8 +89,7 @@ def sweep(ds, var=None, ax=None, *, x=None, y=None, **select):
     vals = da.transpose(dy, dx).values
     xs, ys = ds[dx].values, ds[dy].values
     if categorical:
-        X, Y = np.meshgrid(xs, ys)
-        _points(ax, X.ravel(), Y.ravel(), vals.ravel(), True, marker="s")
+        _categories(ax, xs, ys, vals)
     else:
         mesh = ax.pcolormesh(xs, ys, vals, shading="nearest", cmap="viridis")
         ax.figure.colorbar(mesh, ax=ax, label=LABELS.get(var, var))
@@ -99,12 +98,31 @@ def sweep(ds, var=None, ax=None, *, x=None, y=None, **select):
     return ax
 
 
+def _colors(vals) -> dict:
+    present = sorted(v for v in dict.fromkeys(np.ravel(vals)) if v != "")  # "" = not computed
+    return {v: MODE_COLORS.get(v, f"C{i}") for i, v in enumerate(present)}
+
+
+def _categories(ax, xs, ys, vals):
+    """A map of named values: one flat colour each, a legend, blank where not computed."""
+    from matplotlib.colors import ListedColormap
+    from matplotlib.patches import Patch
+
+    colors = _colors(vals)
+    index = {v: i for i, v in enumerate(colors)}
+    codes = np.ma.masked_less(np.vectorize(lambda v: index.get(v, -1), otypes=[float])(vals), 0)
+    cmap = ListedColormap(list(colors.values()) or ["white"])
+    ax.pcolormesh(xs, ys, codes, shading="nearest", cmap=cmap, vmin=-0.5,
+                  vmax=len(colors) - 0.5)  # fmt: skip
+    ax.legend(handles=[Patch(color=c, label=v) for v, c in colors.items()], loc="best",
+              fontsize="small")  # fmt: skip
+
+
 def _points(ax, xs, ys, vals, categorical, marker="o"):
     if categorical:
-        for mode, color in MODE_COLORS.items():
-            pick = vals == mode
-            if pick.any():
-                ax.scatter(xs[pick], ys[pick], c=color, marker=marker, label=mode)
+        for value, color in _colors(vals).items():
+            pick = vals == value
+            ax.scatter(xs[pick], ys[pick], c=color, marker=marker, label=value)
         ax.legend(loc="best", fontsize="small")
     else:
         sc = ax.scatter(xs, ys, c=vals, cmap="viridis", marker=marker)

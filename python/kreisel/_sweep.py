@@ -65,9 +65,19 @@ DESCRIPTIONS = {
     "M3_drift": "largest change of M3 relative to |M0| (NaN unless symmetric)",
     "kovalevskaya_drift": "largest relative change of Kovalevskaya's K (NaN unless such a top)",
     "lyapunov": "largest Lyapunov exponent (1/s), Benettin's renormalisation over t_end",
+    "motion_kind": "kind of motion of the exact solution",
+    "nutation_period": "period of theta (s), inf on the separatrix",
+    "mean_precession_rate": "mean of phi_dot over a nutation period (rad/s)",
 }
 MODES = ("slip", "roll", "flight")
+MOTION_KINDS = ("sleeping", "hanging", "regular_precession", "waves", "cusps", "loops",
+                "through_vertical", "asymptotic")  # fmt: skip
+# summaries with a few named values, stored as small integer codes (CF flag convention)
+CATEGORIES = {"final_mode": MODES, "motion_kind": MOTION_KINDS}
 MODE_PENDING, MODE_ERROR = -1, -2
+# the exact Lagrange top: no integration, the analysis of each state
+EXACT_SUMMARIES = ("motion_kind", "theta_min", "theta_max", "nutation_period",
+                   "mean_precession_rate")  # fmt: skip
 SWEEP_TABLES = (*_config.TABLES, "grid", "random", "output")
 OUTPUT_FIELDS = ("keep", "chunk", "inversion_level", "lyapunov_tau")
 DEFAULT_CHUNK = 256
@@ -131,15 +141,21 @@ class SweepSpec:
                 f"{head}[top] kind = {kind!r} is not allowed: use one of "
                 f"{', '.join(_config.KINDS)} (or a preset)"
             )
-        for name in ("exact", "samples"):
-            if sim.get(name) not in (None, False):
-                raise ParameterError(
-                    f"{head}[simulation] {name} = {sim[name]!r} is not allowed in a sweep: "
-                    "sweeps integrate and keep summaries"
-                )
-            sim.pop(name, None)
-        if kind == "lagrange":
-            sim.setdefault("method", "dop853")
+        if sim.get("samples") is not None:
+            raise ParameterError(
+                f"{head}[simulation] samples = {sim['samples']!r} is not allowed in a sweep: "
+                "sweeps keep summaries, not trajectories"
+            )
+        exact = sim.get("exact", False)
+        if exact is not True:
+            sim.pop("exact", None)
+            if kind == "lagrange":
+                sim.setdefault("method", "dop853")
+        elif kind != "lagrange":
+            raise ParameterError(
+                f"{head}[simulation] exact = true is not allowed: only a lagrange top has an "
+                "exact solution"
+            )
         swept_names = _sweepable(kind)
         grid = _grid(tables.get("grid", {}), swept_names, f"{head}[grid] ")
         random, n, seed = _random(tables.get("random", {}), swept_names, f"{head}[random] ")
@@ -178,20 +194,23 @@ class SweepSpec:
             "rtol": settings.rtol,
             "atol": settings.atol,
             "dt": settings.dt,
+            "exact": settings.exact,
         }
         out = dict(tables.get("output", {}))
         _config._check_fields(f"{head}[output] ", out, OUTPUT_FIELDS, "of the output")
-        keep = out.get("keep", list(DEFAULT_KEEP[kind]))
+        allowed = EXACT_SUMMARIES if sim["exact"] else SUMMARIES[kind]
+        what = "the exact solution" if sim["exact"] else f"a {kind} top's run"
+        keep = out.get("keep", list(EXACT_SUMMARIES if sim["exact"] else DEFAULT_KEEP[kind]))
         if isinstance(keep, str) or not isinstance(keep, (list, tuple)) or not keep:
             raise ParameterError(
                 f"{head}[output] keep = {keep!r} is not allowed: give a non-empty list of "
-                f"{', '.join(SUMMARIES[kind])}"
+                f"{', '.join(allowed)}"
             )
         for k in keep:
-            if k not in SUMMARIES[kind]:
+            if k not in allowed:
                 raise ParameterError(
-                    f"{head}[output] keep contains {k!r}, which is not a summary of a {kind} "
-                    f"top: allowed are {', '.join(SUMMARIES[kind])}"
+                    f"{head}[output] keep contains {k!r}, which is not a summary of {what}: "
+                    f"allowed are {', '.join(allowed)}"
                 )
         chunk = out.get("chunk", DEFAULT_CHUNK)
         if isinstance(chunk, bool) or not isinstance(chunk, (int, np.integer)) or chunk < 1:
@@ -560,9 +579,20 @@ def compute_chunk(spec: dict, values: dict, threads=None) -> dict:
     out = {}
     kept = spec["keep"]
     for name in kept:
-        out[name] = np.full(n, MODE_ERROR if name == "final_mode" else np.nan)
+        out[name] = np.full(n, MODE_ERROR if name in CATEGORIES else np.nan)
     status = np.full(n, 2, dtype=np.int8)
-    if models:
+    if models and sim.get("exact"):
+        for i, model, state in zip(where, models, states):
+            try:
+                a = model.analyse(state)
+            except (ParameterError, ArithmeticError, RuntimeError) as e:
+                errors[i] = str(e)
+                continue
+            for name in kept:
+                v = getattr(a, "kind" if name == "motion_kind" else name)
+                out[name][i] = MOTION_KINDS.index(v) if name == "motion_kind" else v
+            status[i] = 1
+    elif models:
         kw = dict(rtol=sim.get("rtol", 1e-10), atol=sim.get("atol", 1e-12), threads=threads)
         if kind == "play":
             kw["inversion_level"] = spec["inversion_level"]
@@ -585,8 +615,9 @@ def compute_chunk(spec: dict, values: dict, threads=None) -> dict:
             res_errors = res.errors
         for name in kept_here:
             col = getattr(res, name)
-            if name == "final_mode":
-                col = np.array([MODES.index(m) if m in MODES else MODE_ERROR for m in col])
+            if name in CATEGORIES:
+                names = CATEGORIES[name]
+                col = np.array([names.index(m) if m in names else MODE_ERROR for m in col])
             out[name][idx] = col
         for j, msg in enumerate(res_errors):
             if msg is None:
@@ -594,7 +625,7 @@ def compute_chunk(spec: dict, values: dict, threads=None) -> dict:
             else:
                 errors[where[j]] = msg
     for name in kept:
-        if name == "final_mode":
+        if name in CATEGORIES:
             out[name] = out[name].astype(np.int8)
         elif name == "steps":
             out[name] = np.nan_to_num(out[name], nan=-1).astype(np.int64)
@@ -677,14 +708,14 @@ def _create(store, spec: SweepSpec, samples: dict):
             coords.append(name)
     attrs = {"coordinates": " ".join(coords)} if coords else {}
     for name in spec.keep:
-        dtype, fill = {"final_mode": ("i1", MODE_PENDING), "steps": ("i8", -1)}.get(
-            name, ("f8", np.nan)
-        )
+        dtype, fill = ("i8", -1) if name == "steps" else ("f8", np.nan)
         a = dict(attrs, description=DESCRIPTIONS[name])
-        if name == "final_mode":
+        if name in CATEGORIES:
+            dtype, fill = "i1", MODE_PENDING
+            names = CATEGORIES[name]
             a.update(
-                flag_values=[0, 1, 2, MODE_ERROR, MODE_PENDING],
-                flag_meanings="slip roll flight error pending",
+                flag_values=[*range(len(names)), MODE_ERROR, MODE_PENDING],
+                flag_meanings=" ".join([*names, "error", "pending"]),
             )
         root.create_array(
             name,
@@ -747,16 +778,14 @@ def open_sweep(store):
     ds = xr.open_zarr(store, consolidated=False, chunks=None).load()
     done = ds["chunk_done"].values
     ds = ds.drop_vars("chunk_done")
-    if "final_mode" in ds:
-        names = np.array([*MODES, "error", ""], dtype=object)
-        codes = ds["final_mode"].values.astype(int)
-        lookup = np.where(codes >= 0, codes, np.where(codes == MODE_ERROR, 3, 4))
-        fm = ds["final_mode"]
-        ds["final_mode"] = (
-            fm.dims,
-            names[lookup].astype(str),
-            {"description": DESCRIPTIONS["final_mode"]},
-        )
+    for name, values in CATEGORIES.items():
+        if name not in ds:
+            continue
+        names = np.array([*values, "error", ""], dtype=object)
+        codes = ds[name].values.astype(int)
+        k = len(values)
+        lookup = np.where(codes >= 0, codes, np.where(codes == MODE_ERROR, k, k + 1))
+        ds[name] = (ds[name].dims, names[lookup].astype(str), {"description": DESCRIPTIONS[name]})
     ds = ds[[*json.loads(ds.attrs["spec"])["keep"], "status"]]  # the spec's order
     ds.attrs["chunks_done"] = int(done.sum())
     ds.attrs["chunks"] = int(done.size)

@@ -273,7 +273,7 @@ class SweepSpec:
                     _config._model(self.kind, top, "")
                 except ParameterError as e:
                     table = "grid" if name in self.grid else "random"
-                    raise ParameterError(f"{head}[{table}] {e}") from None
+                    raise ParameterError(f"{head}[{table}] {name} = {v:g}: {e}") from None
 
     # ----------------------------------------------------------------------------------
     # geometry

@@ -351,6 +351,22 @@ def test_dask_cluster_equals_local_bit_for_bit(tmp_path, cluster):
     assert_same(local, again)
 
 
+def test_the_environment_sends_an_unchanged_script_to_the_cluster(tmp_path, cluster, monkeypatch):
+    monkeypatch.setenv("KREISEL_SCHEDULER", cluster.address)
+    tables = play_spec(output={"chunk": 6})
+    ds = kreisel.sweep(tables, None, progress=False)
+    from distributed import Client
+
+    with Client(cluster.address, set_as_default=False) as client:
+        # the workers ran the tasks: the scheduler remembers them
+        logs = client.run_on_scheduler(
+            lambda dask_scheduler: [k for k in dask_scheduler.task_prefixes]
+        )
+    assert "kreisel-sweep" in " ".join(map(str, logs)), logs
+    monkeypatch.setenv("KREISEL_SCHEDULER", "local")
+    assert_same(ds, kreisel.sweep(tables, None, progress=False))
+
+
 def test_killing_a_worker_midway_still_completes_every_run(tmp_path, cluster):
     tables = play_spec(
         grid={"psi_dot": {"start": 80.0, "stop": 200.0, "num": 8}, "s": [0.004, 0.006, 0.008]},

@@ -797,8 +797,13 @@ def open_sweep(store):
 # --------------------------------------------------------------------------------------
 
 
+SCHEDULER_ENV = "KREISEL_SCHEDULER"
+
+
 def _client(scheduler, timeout):
     if scheduler is None:
+        scheduler = os.environ.get(SCHEDULER_ENV) or None
+    if scheduler is None or scheduler == "local":
         return None, False
     try:
         from distributed import Client
@@ -844,8 +849,10 @@ def sweep(
         sweep, only the chunks not yet done are computed; if it holds another sweep, the call
         fails unless ``overwrite``. None: an in-memory store (nothing kept on disk).
     scheduler : str or dask.distributed.Client, optional
-        None: the core's parallel batch on this machine. An address (``"tcp://host:8786"``)
-        or a client: chunks go to that Dask cluster, whose workers need only kreisel.
+        None: the address in the environment variable ``KREISEL_SCHEDULER`` if it is set (so
+        a script moves to a cluster with no change), else the core's parallel batch on this
+        machine (also ``"local"``). An address (``"tcp://host:8786"``) or a client: chunks
+        go to that Dask cluster, whose workers need only kreisel.
     threads : int, optional
         Local runs: the number of threads (default: all cores).
     progress : bool

@@ -328,8 +328,12 @@ def atlas(preset, out, **top):
     default=None,
     help="Zarr store of the results [kreisel-out/<file name>.zarr]; rerun to finish it",
 )
-@click.option("--scheduler", default=None, metavar="ADDRESS",
-              help="a Dask scheduler (tcp://host:8786) [$KREISEL_SCHEDULER, else local cores]")  # fmt: skip
+@click.option(
+    "--scheduler",
+    default=None,
+    metavar="ADDRESS",
+    help="a Dask scheduler (tcp://host:8786) [$KREISEL_SCHEDULER, else local cores]",
+)
 @click.option("--threads", type=click.IntRange(1), default=None,
               help="threads on this machine [all cores]")  # fmt: skip
 @click.option("--var", default=None, help="the summary in the figure [inversion time or theta_max]")

@@ -64,3 +64,19 @@ def test_heavy_batch_needs_dt_for_fixed_step_methods():
     top = kreisel.LagrangeTop(**LAG)
     with pytest.raises(kreisel.ParameterError, match="dt"):
         kreisel.simulate_many(top, top.state(0.3, psi_dot=90.0), 1.0, method="rk4")
+
+
+def test_progress_bar_changes_no_result(capsys):
+    pt = kreisel.PlayTop(0.02, 0.8 * 0.4 * 0.02 * 0.02**2, 0.4 * 0.02 * 0.02**2, 0.006, 0.02)
+    states = [pt.state(np.pi - 0.1, psi_dot=60.0 + i) for i in range(200)]
+    quiet = kreisel.simulate_many(pt, states, 0.3)
+    shown = kreisel.simulate_many(pt, states, 0.3, progress=True)
+    assert "200/200" in capsys.readouterr().err
+    for name in ("final_u", "inversion_time", "jellett_drift", "steps", "final_mode"):
+        np.testing.assert_array_equal(getattr(quiet, name), getattr(shown, name))
+    assert quiet.errors == shown.errors
+    top = kreisel.LagrangeTop(**LAG)
+    hs = [top.state(0.3 + 0.001 * i, psi_dot=90.0) for i in range(130)]
+    a = kreisel.simulate_many(top, hs, 0.5)
+    b = kreisel.simulate_many(top, hs, 0.5, progress=True)
+    np.testing.assert_array_equal(a.theta_max, b.theta_max)

@@ -90,6 +90,7 @@ def simulate_many(
     dt=None,
     inversion_level=0.9,
     threads=None,
+    progress=False,
 ):
     """Simulates many tops in parallel (the GIL released) and summarises each run.
 
@@ -113,6 +114,9 @@ def simulate_many(
         Play tops: the u level whose first upward crossing is the inversion time.
     threads : int, optional
         Threads to use (default: all cores).
+    progress : bool
+        Show a progress bar (tqdm): the runs then go in pieces of at least 64, which changes
+        no result.
 
     Returns
     -------
@@ -120,7 +124,7 @@ def simulate_many(
     """
     first = models if not isinstance(models, (list, tuple)) else (models[0] if models else None)
     if isinstance(first, _Rigid):
-        return _heavy_many(models, states, t_end, method, rtol, atol, dt, threads)
+        return _heavy_many(models, states, t_end, method, rtol, atol, dt, threads, progress)
     if method != "dop853":
         raise ParameterError(
             f"method = {method!r} is not allowed for a PlayTop: its contact modes, events "
@@ -135,7 +139,9 @@ def simulate_many(
             )
     t_end = _t_end(t_end)
     rtol, atol = _tolerances(rtol, atol)
-    out = _core.play_many(
+    out = _in_pieces(
+        _core.play_many,
+        progress,
         [m._native for m in ms],
         [ms[i]._check(s) for i, s in enumerate(ss)],
         t_end,
@@ -155,6 +161,35 @@ def simulate_many(
     )
 
 
+PIECE = 64
+
+
+def _in_pieces(native, progress, tops, states, *args):
+    """``native(tops, states, *args)`` -> dict of columns, run in pieces under a progress bar
+    when asked (the runs are independent, so the columns are the same)."""
+    n = len(tops)
+    if not progress or n < 2 * PIECE:
+        return native(tops, states, *args)
+    try:
+        from tqdm.auto import tqdm
+    except ImportError:  # pragma: no cover
+        raise ParameterError(
+            "progress = True is not allowed without tqdm: pip install tqdm"
+        ) from None
+    size = max(PIECE, -(-n // 100))
+    parts = []
+    with tqdm(total=n, unit="run", desc="simulate_many") as bar:
+        for i in range(0, n, size):
+            parts.append(native(tops[i : i + size], states[i : i + size], *args))
+            bar.update(min(size, n - i))
+    return {
+        k: np.concatenate([p[k] for p in parts])
+        if isinstance(parts[0][k], np.ndarray)
+        else [x for p in parts for x in p[k]]
+        for k in parts[0]
+    }
+
+
 def _t_end(t_end):
     t_end = real("t_end", t_end)
     if t_end < 0:
@@ -162,7 +197,7 @@ def _t_end(t_end):
     return t_end
 
 
-def _heavy_many(models, states, t_end, method, rtol, atol, dt, threads):
+def _heavy_many(models, states, t_end, method, rtol, atol, dt, threads, progress):
     ms, ss = _broadcast(
         models, states, _Rigid, lambda s: not isinstance(s, (list, tuple, np.ndarray))
     )
@@ -175,7 +210,9 @@ def _heavy_many(models, states, t_end, method, rtol, atol, dt, threads):
     rs = [rigid_state(s) for s in ss]
     if not isinstance(method, str):
         raise ParameterError(f"method = {method!r} is not allowed: give a method name")
-    out = _core.heavy_many(
+    out = _in_pieces(
+        _core.heavy_many,
+        progress,
         [m._heavy_native() for m in ms],
         [(list(r.quaternion), list(r.omega)) for r in rs],
         _t_end(t_end),

@@ -245,6 +245,9 @@ pub fn simulate_play(top: &PlayTop, y0: [f64; DIM], settings: &PlaySettings) -> 
         // Switch.
         match reason {
             "lift_off" => {
+                // The top leaves the floor from it: the located state (from the dense output,
+                // off the contact by the local error) is put back on the contact first.
+                top.project(mode, &mut y);
                 mode = Mode::Flight;
                 hop = f64::INFINITY;
             }

@@ -378,6 +378,10 @@ def _tolerances(rtol, atol):
     return rtol, atol
 
 
+# Contact modes by the core's codes (0 slip, 1 roll, 2 flight).
+_MODE_NAMES = np.array(["slip", "roll", "flight"])
+
+
 def simulate_play(model: PlayTop, state, t_end, *, method, rtol, atol, t_eval, events):
     """The play-top branch of :func:`kreisel.simulate`."""
     from ._simulate import Event, EventRecord
@@ -415,7 +419,7 @@ def simulate_play(model: PlayTop, state, t_end, *, method, rtol, atol, t_eval, e
     stats = out.pop("stats")
     hits = out.pop("events")
     parts = out.pop("energy_parts")
-    out["mode"] = np.array(out["mode"])
+    out["mode"] = _MODE_NAMES[out["mode"]]
     out["energy_translation"] = parts[:, 0]
     out["energy_rotation"] = parts[:, 1]
     out["energy_potential"] = parts[:, 2]

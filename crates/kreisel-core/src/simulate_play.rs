@@ -216,12 +216,16 @@ pub fn simulate_play(top: &PlayTop, y0: [f64; DIM], settings: &PlaySettings) -> 
             _ => (vec![], vec![]),
         };
         let skip = usize::from(!first && settings.t_eval.is_none() && !ts.is_empty());
-        for (ti, yi) in ts.iter().zip(&ys).skip(skip) {
-            out.t.push(*ti);
-            out.y.push(*yi);
-            out.mode.push(mode);
-            out.dir.push(dir);
+        if out.t.is_empty() && skip == 0 {
+            // The first segment's columns are taken over, not copied.
+            out.t = ts;
+            out.y = ys;
+        } else {
+            out.t.extend_from_slice(&ts[skip..]);
+            out.y.extend_from_slice(&ys[skip..]);
         }
+        out.mode.resize(out.t.len(), mode);
+        out.dir.resize(out.t.len(), dir);
         first = false;
         let mut terminal = None;
         for (idx, te) in hits {
@@ -367,7 +371,18 @@ pub struct PlayColumns {
 pub fn play_columns(top: &PlayTop, out: &PlayOutput) -> PlayColumns {
     use crate::rotation::euler_from_quaternion;
     let n = out.t.len();
-    let mut c = PlayColumns::default();
+    let mut c = PlayColumns {
+        u: Vec::with_capacity(n),
+        theta: Vec::with_capacity(n),
+        phi: Vec::with_capacity(n),
+        psi: Vec::with_capacity(n),
+        contact: Vec::with_capacity(n),
+        slip_velocity: Vec::with_capacity(n),
+        slip_speed: Vec::with_capacity(n),
+        normal_force: Vec::with_capacity(n),
+        jellett: Vec::with_capacity(n),
+        energy_parts: Vec::with_capacity(n),
+    };
     let tau = std::f64::consts::TAU;
     let (mut lphi, mut lpsi) = (0.0f64, 0.0f64);
     for i in 0..n {

@@ -166,7 +166,11 @@ impl PyPlayTop {
         let n = out.t.len();
         let d = PyDict::new(py);
         let flat = |k: std::ops::Range<usize>| -> Vec<f64> {
-            out.y.iter().flat_map(|y| y[k.clone()].to_vec()).collect()
+            let mut v = Vec::with_capacity(n * k.len());
+            for y in &out.y {
+                v.extend_from_slice(&y[k.clone()]);
+            }
+            v
         };
         let v3 = |v: &Vec<[f64; 3]>| -> Vec<f64> { v.iter().flat_map(|x| *x).collect() };
         d.set_item("quaternion", flat(0..4).into_pyarray(py).reshape([n, 4])?)?;
@@ -194,10 +198,11 @@ impl PyPlayTop {
         d.set_item("jellett", cols.jellett.into_pyarray(py))?;
         let ep: Vec<f64> = cols.energy_parts.iter().flat_map(|x| *x).collect();
         d.set_item("energy_parts", ep.into_pyarray(py).reshape([n, 3])?)?;
-        let modes: Vec<&str> = out.mode.iter().map(|m| m.name()).collect();
-        d.set_item("mode", modes)?;
-        d.set_item("t", out.t.clone().into_pyarray(py))?;
-        d.set_item("events", out.events.clone())?;
+        // Codes (0 slip, 1 roll, 2 flight): one array, not a Python string per output.
+        let modes: Vec<u8> = out.mode.iter().map(|m| m.code()).collect();
+        d.set_item("mode", modes.into_pyarray(py))?;
+        d.set_item("events", out.events)?;
+        d.set_item("t", out.t.into_pyarray(py))?;
         let stats = PyDict::new(py);
         stats.set_item("steps", out.steps)?;
         stats.set_item("rejected", out.rejected)?;

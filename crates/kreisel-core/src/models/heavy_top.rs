@@ -260,11 +260,7 @@ impl HeavyTop {
     pub fn rhs(&self, y: &[f64; 7], dy: &mut [f64; 7]) {
         let q = Quat([y[0], y[1], y[2], y[3]]);
         let w = [y[4], y[5], y[6]];
-        let dq = q.hamilton(Quat([0.0, w[0], w[1], w[2]]));
-        dy[0] = 0.5 * dq.0[0];
-        dy[1] = 0.5 * dq.0[1];
-        dy[2] = 0.5 * dq.0[2];
-        dy[3] = 0.5 * dq.0[3];
+        dy[..4].copy_from_slice(&q.half_times_pure(w));
         let m = self.momentum(w);
         let gyro = cross(m, w);
         let torque = cross(q.up_in_body(), self.mgc);

@@ -44,7 +44,7 @@ fn main() {
         let t0 = Instant::now();
         let out = simulate_play(&top, y0, &st).unwrap();
         let t1 = Instant::now();
-        let c = play_columns(&top, &out);
+        let c = play_columns(&top, &out.y, &out.mode, &out.dir);
         let t2 = Instant::now();
         a = a.min((t1 - t0).as_secs_f64());
         b = b.min((t2 - t1).as_secs_f64());

@@ -367,10 +367,16 @@ pub struct PlayColumns {
     pub energy_parts: Vec<[f64; 3]>,
 }
 
-/// Computes the diagnostics of every output of a play-top run.
-pub fn play_columns(top: &PlayTop, out: &PlayOutput) -> PlayColumns {
+/// Computes the diagnostics of the outputs of a play-top run: states `y` with their modes
+/// and slip directions (the fields of [`PlayOutput`]).
+pub fn play_columns(
+    top: &PlayTop,
+    y: &[[f64; DIM]],
+    mode: &[Mode],
+    dir: &[[f64; 3]],
+) -> PlayColumns {
     use crate::rotation::euler_from_quaternion;
-    let n = out.t.len();
+    let n = y.len();
     let mut c = PlayColumns {
         u: Vec::with_capacity(n),
         theta: Vec::with_capacity(n),
@@ -386,7 +392,7 @@ pub fn play_columns(top: &PlayTop, out: &PlayOutput) -> PlayColumns {
     let tau = std::f64::consts::TAU;
     let (mut lphi, mut lpsi) = (0.0f64, 0.0f64);
     for i in 0..n {
-        let y = &out.y[i];
+        let y = &y[i];
         let k = top.kin(y);
         let (phi, theta, psi) = euler_from_quaternion(k.q.normalized());
         let (phi, psi) = if i == 0 {
@@ -410,7 +416,7 @@ pub fn play_columns(top: &PlayTop, out: &PlayOutput) -> PlayColumns {
             .push((k.v_t[0] * k.v_t[0] + k.v_t[1] * k.v_t[1]).sqrt());
         let mut dy = [0.0; DIM];
         c.normal_force
-            .push(top.dynamics(out.mode[i], y, out.dir[i], &mut dy).n);
+            .push(top.dynamics(mode[i], y, dir[i], &mut dy).n);
         c.jellett.push(top.jellett(y));
         let (a, b, p) = top.energy_parts(y);
         c.energy_parts.push([a, b, p]);

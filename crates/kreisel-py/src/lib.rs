@@ -14,6 +14,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<lagrange::PyLagrangeTop>()?;
     m.add_class::<heavy::PyHeavyTop>()?;
     m.add_class::<play::PyPlayTop>()?;
+    m.add_class::<play::PyPlayRun>()?;
     m.add_class::<stability::PyPlayStability>()?;
     m.add_function(wrap_pyfunction!(play::simulate_many, m)?)?;
     m.add_function(wrap_pyfunction!(lagrange::check_euler_state, m)?)?;

@@ -33,6 +33,11 @@ def methods() -> tuple[MethodInfo, ...]:
     return tuple(MethodInfo(*m) for m in _core.methods())
 
 
+@functools.cache
+def _methods_by_name() -> dict[str, MethodInfo]:
+    return {m.name: m for m in methods()}
+
+
 @dataclass(frozen=True)
 class EventRecord:
     """An event that happened: its name, time (s) and index in the ``events`` list."""
@@ -147,7 +152,7 @@ def simulate(
         raise ParameterError(f"t_end = {t_end} is not allowed: it must be >= 0")
     if not isinstance(method, str):
         raise ParameterError(f"method = {method!r} is not allowed: give a method name")
-    known = {m.name: m for m in methods()}
+    known = _methods_by_name()
     if method not in known:
         raise ParameterError(
             f"method = {method!r} is not allowed: known methods are {', '.join(known)}"

@@ -420,6 +420,7 @@ impl PlayTop {
 
     /// Contact force and state derivative in a mode. `dir` is the slip direction used when
     /// the slip speed is zero (Coulomb friction only).
+    #[inline(always)]
     pub fn dynamics(
         &self,
         mode: Mode,
@@ -513,11 +514,16 @@ impl PlayTop {
         // Dissipated power: minus the power of the tangential contact force at T and of the
         // resistance torques.
         let p_friction = if mode == Mode::Slip {
-            dot(contact.ft, k.v_t)
+            // The friction force is horizontal.
+            contact.ft[0] * k.v_t[0] + contact.ft[1] * k.v_t[1]
         } else {
             0.0
         };
-        let p_res = dot(add(scale(contact.n, res_n), res_0), k.w);
+        let p_res = if self.rolling > 0.0 || self.drilling > 0.0 || self.air > 0.0 {
+            dot(add(scale(contact.n, res_n), res_0), k.w)
+        } else {
+            0.0
+        };
         dy[13] = -(p_friction + p_res);
         contact
     }

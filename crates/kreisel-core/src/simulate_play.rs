@@ -8,7 +8,9 @@
 //! through an impact with restitution and a Coulomb friction impulse.
 
 use crate::error::{KreiselError, Result};
-use crate::integrate::{Dop853, EventSpec, Locator, OdeSystem, Recorder, WithEvents};
+use crate::integrate::{
+    Dop853, EventSpec, IntegrateError, Locator, Observer, OdeSystem, Recorder, Stats, WithEvents,
+};
 use crate::models::play_top::{Friction, Mode, PlayTop, DIM};
 
 /// Settings of a play-top simulation.
@@ -51,19 +53,42 @@ pub struct PlayOutput {
     pub rhs_evals: u64,
 }
 
-struct ModeSystem<'a> {
+/// The equations of the contact mode with code `M` ([`Mode::code`]): a constant, so that
+/// each mode's right-hand side is compiled without the dispatch on the mode.
+struct ModeSystem<'a, const M: u8> {
     top: &'a PlayTop,
-    mode: Mode,
     dir: [f64; 3],
 }
 
-impl OdeSystem<DIM> for ModeSystem<'_> {
+impl<const M: u8> OdeSystem<DIM> for ModeSystem<'_, M> {
     #[inline(always)]
     fn rhs(&self, _t: f64, y: &[f64; DIM], dy: &mut [f64; DIM]) {
-        self.top.dynamics(self.mode, y, self.dir, dy);
+        self.top.dynamics(Mode::from_code(M), y, self.dir, dy);
     }
     fn project(&self, y: &mut [f64; DIM]) {
-        self.top.project(self.mode, y);
+        self.top.project(Mode::from_code(M), y);
+    }
+}
+
+/// Integrates one phase in `mode` (see [`ModeSystem`]).
+#[allow(clippy::too_many_arguments)]
+fn integrate_phase<O: Observer<DIM>>(
+    integrator: &Dop853,
+    top: &PlayTop,
+    mode: Mode,
+    dir: [f64; 3],
+    t: f64,
+    y: [f64; DIM],
+    t_end: f64,
+    obs: &mut O,
+) -> std::result::Result<(f64, [f64; DIM], Stats), IntegrateError> {
+    const SLIP: u8 = Mode::Slip.code();
+    const ROLL: u8 = Mode::Roll.code();
+    const FLIGHT: u8 = Mode::Flight.code();
+    match mode {
+        Mode::Slip => integrator.integrate(&ModeSystem::<SLIP> { top, dir }, t, y, t_end, obs),
+        Mode::Roll => integrator.integrate(&ModeSystem::<ROLL> { top, dir }, t, y, t_end, obs),
+        Mode::Flight => integrator.integrate(&ModeSystem::<FLIGHT> { top, dir }, t, y, t_end, obs),
     }
 }
 
@@ -117,7 +142,6 @@ pub fn simulate_play(top: &PlayTop, y0: [f64; DIM], settings: &PlaySettings) -> 
     };
     let mut first = true;
     loop {
-        let sys = ModeSystem { top, mode, dir };
         let integrator = Dop853 {
             rtol: settings.rtol,
             atol: settings.atol,
@@ -197,8 +221,7 @@ pub fn simulate_play(top: &PlayTop, y0: [f64; DIM], settings: &PlaySettings) -> 
             .map_or(0, |te| te.len() - seg_times.map_or(0, |s| s.len()));
         let mut rec = Recorder::new(seg_times, None);
         let mut obs = WithEvents::new(locator, &mut rec);
-        let (t1, y1, st) = integrator
-            .integrate(&sys, t, y, t_end, &mut obs)
+        let (t1, y1, st) = integrate_phase(&integrator, top, mode, dir, t, y, t_end, &mut obs)
             .map_err(|e| KreiselError::Numerical(format!("play top, {} mode: {e}", mode.name())))?;
         let hits: Vec<(usize, f64)> = obs.locator.events.iter().map(|e| (e.index, e.t)).collect();
         drop(obs);

@@ -58,11 +58,21 @@ impl Mode {
         }
     }
     /// Small integer code (0 slip, 1 roll, 2 flight).
-    pub fn code(&self) -> u8 {
+    pub const fn code(&self) -> u8 {
         match self {
             Mode::Slip => 0,
             Mode::Roll => 1,
             Mode::Flight => 2,
+        }
+    }
+
+    /// The mode of a [`Mode::code`]; any other code is flight.
+    #[inline(always)]
+    pub const fn from_code(code: u8) -> Mode {
+        match code {
+            0 => Mode::Slip,
+            1 => Mode::Roll,
+            _ => Mode::Flight,
         }
     }
 }

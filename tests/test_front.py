@@ -179,3 +179,38 @@ def test_animation_rejects_bad_arguments(exact_run):
         to_gif(exact_run, "x.gif", fps=0)
     with pytest.raises(kreisel.ParameterError, match="t_start"):
         render(exact_run, frames=2, t_start=-1.0)
+
+
+def test_diagnostics_are_those_of_the_simulated_states_even_after_an_edit():
+    # The diagnostics columns are computed when first read; editing a state column before
+    # that must not change them. References: theta from R33 = 1 - 2 (x^2 + y^2) (z-x-z
+    # angles), E = (I1 (w1^2 + w2^2) + I3 w3^2) / 2 + m g l cos(theta); the contact point
+    # of a play top is G - s e3 - rho ez.
+    lag = kreisel.LagrangeTop(**TOY)
+    traj = kreisel.simulate(lag, lag.state(0.6, psi_dot=300.0), 0.05)
+    q, w = traj.quaternion.copy(), traj.omega.copy()
+    traj.quaternion[:] = 0.0
+    traj.omega[:] = 0.0
+    cos_theta = 1.0 - 2.0 * (q[:, 1] ** 2 + q[:, 2] ** 2)
+    np.testing.assert_allclose(np.cos(traj.theta), cos_theta, rtol=0, atol=1e-14)
+    kin = 0.5 * (lag.I1 * (w[:, 0] ** 2 + w[:, 1] ** 2) + lag.I3 * w[:, 2] ** 2)
+    energy = kin + lag.m * lag.g * lag.l * cos_theta
+    np.testing.assert_allclose(traj.energy, energy, rtol=1e-14, atol=0)
+    assert list(traj.to_dict()) == traj.columns
+
+    s, rho = 0.006, 0.02
+    top = kreisel.PlayTop(m=0.02, A=0.8 * TIPPE_C, C=TIPPE_C, s=s, rho=rho,
+                          friction=kreisel.Viscous(1.0))  # fmt: skip
+    run = kreisel.simulate(top, top.state(theta=np.pi - 0.1, psi_dot=150.0), 0.05, rtol=1e-9)
+    com, q = run.com.copy(), run.quaternion.copy()
+    run.com[:] = 0.0
+    e3 = np.stack(
+        [
+            2 * (q[:, 1] * q[:, 3] + q[:, 0] * q[:, 2]),
+            2 * (q[:, 2] * q[:, 3] - q[:, 0] * q[:, 1]),
+            1 - 2 * (q[:, 1] ** 2 + q[:, 2] ** 2),
+        ],
+        axis=1,
+    )
+    np.testing.assert_allclose(run.contact_point, com - s * e3 - [0.0, 0.0, rho], atol=1e-15)
+    np.testing.assert_allclose(run.u, e3[:, 2], rtol=0, atol=1e-15)

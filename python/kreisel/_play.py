@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -305,10 +306,31 @@ def _tolerances(rtol, atol):
     return rtol, atol
 
 
+# Contact modes by the core's codes (0 slip, 1 roll, 2 flight).
+_MODE_NAMES = np.array(["slip", "roll", "flight"])
+# Columns derived from the states, computed when first read (see _diagnostics).
+_DIAGNOSTICS = (
+    "theta", "phi", "psi", "u", "contact_point", "slip_velocity", "slip_speed", "normal_force",
+    "jellett",
+)  # fmt: skip
+_ENERGIES = ("energy_translation", "energy_rotation", "energy_potential", "energy")
+
+
+def _diagnostics(run) -> dict[str, np.ndarray]:
+    """The diagnostics columns of a native play-top run (``_DIAGNOSTICS`` and ``_ENERGIES``)."""
+    cols = run.columns()
+    parts = cols.pop("energy_parts")
+    cols["energy_translation"] = parts[:, 0]
+    cols["energy_rotation"] = parts[:, 1]
+    cols["energy_potential"] = parts[:, 2]
+    cols["energy"] = parts.sum(axis=1)
+    return cols
+
+
 def simulate_play(model: PlayTop, state, t_end, *, method, rtol, atol, t_eval, events):
     """The play-top branch of :func:`kreisel.simulate`."""
     from ._simulate import Event, EventRecord
-    from ._trajectory import Trajectory
+    from ._trajectory import Deferred, Trajectory
     from ._validate import times
 
     if method != "dop853":
@@ -341,14 +363,14 @@ def simulate_play(model: PlayTop, state, t_end, *, method, rtol, atol, t_eval, e
     out = model._native.simulate(packed, t_end, rtol, atol, te, level, stop_inv, stop_rest)
     stats = out.pop("stats")
     hits = out.pop("events")
-    parts = out.pop("energy_parts")
-    out["mode"] = np.array(out["mode"])
-    out["energy_translation"] = parts[:, 0]
-    out["energy_rotation"] = parts[:, 1]
-    out["energy_potential"] = parts[:, 2]
-    out["energy"] = parts.sum(axis=1)
+    later = Deferred(functools.partial(_diagnostics, out.pop("run")))
+    cols = {k: out[k] for k in ("quaternion", "omega", "com", "com_velocity", "dissipated")}
+    cols.update(dict.fromkeys(_DIAGNOSTICS, later))
+    cols["mode"] = _MODE_NAMES[out["mode"]]
+    cols["t"] = out["t"]
+    cols.update(dict.fromkeys(_ENERGIES, later))
     names = [
         "slip_to_roll", "roll_to_slip", "lift_off", "touchdown", "inversion", "rest",
     ]  # fmt: skip
     records = [EventRecord(name, t, names.index(name)) for name, t in hits]
-    return Trajectory(out, model=model, state=state, method=method, stats=stats, events=records)
+    return Trajectory(cols, model=model, state=state, method=method, stats=stats, events=records)

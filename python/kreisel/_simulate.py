@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -9,7 +10,7 @@ import numpy as np
 from . import _core
 from ._errors import ParameterError
 from ._heavy import RigidState, _Rigid, rigid_state
-from ._trajectory import Trajectory
+from ._trajectory import Deferred, Trajectory
 from ._validate import real, times
 
 
@@ -25,9 +26,16 @@ class MethodInfo:
     summary: str
 
 
+@functools.cache
 def methods() -> tuple[MethodInfo, ...]:
     """Every method :func:`simulate` knows, with its order and properties."""
+    # Cached: the list is fixed in the core, and simulate() consults it on every call.
     return tuple(MethodInfo(*m) for m in _core.methods())
+
+
+@functools.cache
+def _methods_by_name() -> dict[str, MethodInfo]:
+    return {m.name: m for m in methods()}
 
 
 @dataclass(frozen=True)
@@ -144,7 +152,7 @@ def simulate(
         raise ParameterError(f"t_end = {t_end} is not allowed: it must be >= 0")
     if not isinstance(method, str):
         raise ParameterError(f"method = {method!r} is not allowed: give a method name")
-    known = {m.name: m for m in methods()}
+    known = _methods_by_name()
     if method not in known:
         raise ParameterError(
             f"method = {method!r} is not allowed: known methods are {', '.join(known)}"
@@ -183,5 +191,8 @@ def simulate(
     )
     stats = out.pop("stats")
     hits = out.pop("events")
+    # Copies: the diagnostics stay those of the simulated states if a column is edited in place.
+    q, w = out["quaternion"].copy(), out["omega"].copy()
+    out.update(dict.fromkeys(out.pop("derived"), Deferred(lambda: native.columns(q, w))))
     records = [EventRecord(evs[i].name, t, i) for i, t in hits]
     return Trajectory(out, model=model, state=state, method=method, stats=stats, events=records)

@@ -44,11 +44,27 @@ _COMPONENTS = {
 _SPACE = ("space_axis", ("x", "y", "z"))
 
 
+class Deferred:
+    """Columns computed together on first use: ``make()`` returns a dict of them.
+
+    A simulation returns its states at once and leaves the diagnostics derived from them
+    (Euler angles, energies, forces) to a :class:`Trajectory` that computes them, all in one
+    native call, only when one of them is read.
+    """
+
+    __slots__ = ("_make",)
+
+    def __init__(self, make):
+        self._make = make
+
+
 class Trajectory:
     """A motion sampled at times ``t``: every column is a numpy array of the same length.
 
     Columns are attributes (``traj.theta``) and items (``traj["theta"]``); ``columns`` lists
-    them. Angles are in radians, rates in rad/s, times in s.
+    them. Angles are in radians, rates in rad/s, times in s. A column may be given as a
+    :class:`Deferred` (the same object for every column it makes); it is computed when first
+    read.
     """
 
     __slots__ = ("_cols", "_meta")
@@ -56,15 +72,29 @@ class Trajectory:
     def __init__(self, columns: dict[str, np.ndarray], **meta):
         n = len(columns["t"])
         for k, v in columns.items():
-            if len(v) != n:
+            if not isinstance(v, Deferred) and len(v) != n:
                 raise ValueError(f"column {k!r} has length {len(v)}, expected {n}")
         object.__setattr__(self, "_cols", dict(columns))
         object.__setattr__(self, "_meta", dict(meta))
 
+    def _column(self, name: str) -> np.ndarray:
+        cols = object.__getattribute__(self, "_cols")
+        col = cols[name]
+        if isinstance(col, Deferred):
+            made = col._make()
+            for k, v in cols.items():
+                if v is col:
+                    cols[k] = made[k]
+            col = cols[name]
+        return col
+
+    def _all(self) -> dict[str, np.ndarray]:
+        return {name: self._column(name) for name in self._cols}
+
     def __getattr__(self, name: str) -> np.ndarray:
         cols = object.__getattribute__(self, "_cols")
         if name in cols:
-            return cols[name]
+            return self._column(name)
         meta = object.__getattribute__(self, "_meta")
         if name in meta:
             return meta[name]
@@ -74,7 +104,9 @@ class Trajectory:
         raise AttributeError("Trajectory is read-only")
 
     def __getitem__(self, name: str) -> np.ndarray:
-        return self._cols[name]
+        if name not in self._cols:
+            raise KeyError(name)
+        return self._column(name)
 
     def __len__(self) -> int:
         return len(self._cols["t"])
@@ -89,7 +121,7 @@ class Trajectory:
 
     def to_dict(self) -> dict[str, np.ndarray]:
         """The columns as a dict of arrays."""
-        return dict(self._cols)
+        return self._all()
 
     def _meta_attrs(self) -> dict[str, str]:
         out = {}
@@ -110,7 +142,7 @@ class Trajectory:
 
         t = self._cols["t"]
         data = {}
-        for name, col in self._cols.items():
+        for name, col in self._all().items():
             if name == "t":
                 continue
             col = np.asarray(col)
@@ -123,7 +155,7 @@ class Trajectory:
             units, meaning = COLUMNS.get(name, ("", name))
             data[name] = xr.Variable(dims, col, attrs={"units": units, "long_name": meaning})
         coords = {"t": ("t", t, {"units": "s", "long_name": "time"})}
-        for name, col in self._cols.items():
+        for name, col in self._all().items():
             if np.ndim(col) == 2:
                 dim, labels = _COMPONENTS.get(name, _SPACE)
                 coords[dim] = (dim, list(labels))
@@ -136,7 +168,7 @@ class Trajectory:
         import pandas as pd
 
         flat = {}
-        for name, col in self._cols.items():
+        for name, col in self._all().items():
             if name == "t":
                 continue
             col = np.asarray(col)
@@ -150,7 +182,7 @@ class Trajectory:
     def _repr_html_(self) -> str:
         t = self._cols["t"]
         rows = []
-        for name, col in self._cols.items():
+        for name, col in self._all().items():
             col = np.asarray(col)
             units, meaning = COLUMNS.get(name, ("", ""))
             if col.dtype.kind in "fi" and col.size:

@@ -12,6 +12,8 @@ from ._errors import ParameterError
 
 def real(name: str, value) -> float:
     """``value`` as a finite Python float, or a ParameterError naming ``name``."""
+    if type(value) is float and math.isfinite(value):
+        return value  # the common case, without the checks against the numeric ABCs
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, (numbers.Real, np.floating)):
         raise ParameterError(f"{name} = {value!r} is not allowed: it must be a real number")
     x = float(value)

@@ -402,16 +402,22 @@ fn run_ode<const N: usize, S: OdeSystem<N>>(
             Box::new(move |t: f64, y: &[f64; N]| kind.eval(t, &decode(y))) as RawEventFn<'_, N>
         })
         .collect();
-    let mut locator = Locator::new();
-    for (f, spec) in fns.iter_mut().zip(&specs) {
-        locator.add(*spec, f.as_mut());
-    }
-    let mut obs = WithEvents::new(locator, &mut recorder);
     let t_end = settings.t_end;
-    let result = integrator.integrate(sys, 0.0, y0, t_end, &mut obs);
-    let (_, _, st) = result.map_err(integrate_error)?;
-    let hits: Vec<(usize, f64)> = obs.locator.events.iter().map(|e| (e.index, e.t)).collect();
-    drop(obs);
+    let (st, hits) = if fns.is_empty() {
+        // No events: the recorder alone observes (no locator to consult after every step).
+        let result = integrator.integrate(sys, 0.0, y0, t_end, &mut recorder);
+        (result.map_err(integrate_error)?.2, Vec::new())
+    } else {
+        let mut locator = Locator::new();
+        for (f, spec) in fns.iter_mut().zip(&specs) {
+            locator.add(*spec, f.as_mut());
+        }
+        let mut obs = WithEvents::new(locator, &mut recorder);
+        let result = integrator.integrate(sys, 0.0, y0, t_end, &mut obs);
+        let (_, _, st) = result.map_err(integrate_error)?;
+        let hits: Vec<(usize, f64)> = obs.locator.events.iter().map(|e| (e.index, e.t)).collect();
+        (st, hits)
+    };
     drop(fns);
     let mut out = Output {
         events: hits,

@@ -8,7 +8,9 @@
 //! through an impact with restitution and a Coulomb friction impulse.
 
 use crate::error::{KreiselError, Result};
-use crate::integrate::{Dop853, EventSpec, Locator, OdeSystem, Recorder, WithEvents};
+use crate::integrate::{
+    Dop853, EventSpec, IntegrateError, Locator, Observer, OdeSystem, Recorder, Stats, WithEvents,
+};
 use crate::models::play_top::{Friction, Mode, PlayTop, DIM};
 
 /// Settings of a play-top simulation.
@@ -51,19 +53,42 @@ pub struct PlayOutput {
     pub rhs_evals: u64,
 }
 
-struct ModeSystem<'a> {
+/// The equations of the contact mode with code `M` ([`Mode::code`]): a constant, so that
+/// each mode's right-hand side is compiled without the dispatch on the mode.
+struct ModeSystem<'a, const M: u8> {
     top: &'a PlayTop,
-    mode: Mode,
     dir: [f64; 3],
 }
 
-impl OdeSystem<DIM> for ModeSystem<'_> {
+impl<const M: u8> OdeSystem<DIM> for ModeSystem<'_, M> {
     #[inline(always)]
     fn rhs(&self, _t: f64, y: &[f64; DIM], dy: &mut [f64; DIM]) {
-        self.top.dynamics(self.mode, y, self.dir, dy);
+        self.top.dynamics(Mode::from_code(M), y, self.dir, dy);
     }
     fn project(&self, y: &mut [f64; DIM]) {
-        self.top.project(self.mode, y);
+        self.top.project(Mode::from_code(M), y);
+    }
+}
+
+/// Integrates one phase in `mode` (see [`ModeSystem`]).
+#[allow(clippy::too_many_arguments)]
+fn integrate_phase<O: Observer<DIM>>(
+    integrator: &Dop853,
+    top: &PlayTop,
+    mode: Mode,
+    dir: [f64; 3],
+    t: f64,
+    y: [f64; DIM],
+    t_end: f64,
+    obs: &mut O,
+) -> std::result::Result<(f64, [f64; DIM], Stats), IntegrateError> {
+    const SLIP: u8 = Mode::Slip.code();
+    const ROLL: u8 = Mode::Roll.code();
+    const FLIGHT: u8 = Mode::Flight.code();
+    match mode {
+        Mode::Slip => integrator.integrate(&ModeSystem::<SLIP> { top, dir }, t, y, t_end, obs),
+        Mode::Roll => integrator.integrate(&ModeSystem::<ROLL> { top, dir }, t, y, t_end, obs),
+        Mode::Flight => integrator.integrate(&ModeSystem::<FLIGHT> { top, dir }, t, y, t_end, obs),
     }
 }
 
@@ -117,7 +142,6 @@ pub fn simulate_play(top: &PlayTop, y0: [f64; DIM], settings: &PlaySettings) -> 
     };
     let mut first = true;
     loop {
-        let sys = ModeSystem { top, mode, dir };
         let integrator = Dop853 {
             rtol: settings.rtol,
             atol: settings.atol,
@@ -197,8 +221,7 @@ pub fn simulate_play(top: &PlayTop, y0: [f64; DIM], settings: &PlaySettings) -> 
             .map_or(0, |te| te.len() - seg_times.map_or(0, |s| s.len()));
         let mut rec = Recorder::new(seg_times, None);
         let mut obs = WithEvents::new(locator, &mut rec);
-        let (t1, y1, st) = integrator
-            .integrate(&sys, t, y, t_end, &mut obs)
+        let (t1, y1, st) = integrate_phase(&integrator, top, mode, dir, t, y, t_end, &mut obs)
             .map_err(|e| KreiselError::Numerical(format!("play top, {} mode: {e}", mode.name())))?;
         let hits: Vec<(usize, f64)> = obs.locator.events.iter().map(|e| (e.index, e.t)).collect();
         drop(obs);
@@ -216,12 +239,16 @@ pub fn simulate_play(top: &PlayTop, y0: [f64; DIM], settings: &PlaySettings) -> 
             _ => (vec![], vec![]),
         };
         let skip = usize::from(!first && settings.t_eval.is_none() && !ts.is_empty());
-        for (ti, yi) in ts.iter().zip(&ys).skip(skip) {
-            out.t.push(*ti);
-            out.y.push(*yi);
-            out.mode.push(mode);
-            out.dir.push(dir);
+        if out.t.is_empty() && skip == 0 {
+            // The first segment's columns are taken over, not copied.
+            out.t = ts;
+            out.y = ys;
+        } else {
+            out.t.extend_from_slice(&ts[skip..]);
+            out.y.extend_from_slice(&ys[skip..]);
         }
+        out.mode.resize(out.t.len(), mode);
+        out.dir.resize(out.t.len(), dir);
         first = false;
         let mut terminal = None;
         for (idx, te) in hits {
@@ -245,6 +272,9 @@ pub fn simulate_play(top: &PlayTop, y0: [f64; DIM], settings: &PlaySettings) -> 
         // Switch.
         match reason {
             "lift_off" => {
+                // The top leaves the floor from it: the located state (from the dense output,
+                // off the contact by the local error) is put back on the contact first.
+                top.project(mode, &mut y);
                 mode = Mode::Flight;
                 hop = f64::INFINITY;
             }
@@ -363,15 +393,32 @@ pub struct PlayColumns {
     pub energy_parts: Vec<[f64; 3]>,
 }
 
-/// Computes the diagnostics of every output of a play-top run.
-pub fn play_columns(top: &PlayTop, out: &PlayOutput) -> PlayColumns {
+/// Computes the diagnostics of the outputs of a play-top run: states `y` with their modes
+/// and slip directions (the fields of [`PlayOutput`]).
+pub fn play_columns(
+    top: &PlayTop,
+    y: &[[f64; DIM]],
+    mode: &[Mode],
+    dir: &[[f64; 3]],
+) -> PlayColumns {
     use crate::rotation::euler_from_quaternion;
-    let n = out.t.len();
-    let mut c = PlayColumns::default();
+    let n = y.len();
+    let mut c = PlayColumns {
+        u: Vec::with_capacity(n),
+        theta: Vec::with_capacity(n),
+        phi: Vec::with_capacity(n),
+        psi: Vec::with_capacity(n),
+        contact: Vec::with_capacity(n),
+        slip_velocity: Vec::with_capacity(n),
+        slip_speed: Vec::with_capacity(n),
+        normal_force: Vec::with_capacity(n),
+        jellett: Vec::with_capacity(n),
+        energy_parts: Vec::with_capacity(n),
+    };
     let tau = std::f64::consts::TAU;
     let (mut lphi, mut lpsi) = (0.0f64, 0.0f64);
     for i in 0..n {
-        let y = &out.y[i];
+        let y = &y[i];
         let k = top.kin(y);
         let (phi, theta, psi) = euler_from_quaternion(k.q.normalized());
         let (phi, psi) = if i == 0 {
@@ -395,7 +442,7 @@ pub fn play_columns(top: &PlayTop, out: &PlayOutput) -> PlayColumns {
             .push((k.v_t[0] * k.v_t[0] + k.v_t[1] * k.v_t[1]).sqrt());
         let mut dy = [0.0; DIM];
         c.normal_force
-            .push(top.dynamics(out.mode[i], y, out.dir[i], &mut dy).n);
+            .push(top.dynamics(mode[i], y, dir[i], &mut dy).n);
         c.jellett.push(top.jellett(y));
         let (a, b, p) = top.energy_parts(y);
         c.energy_parts.push([a, b, p]);

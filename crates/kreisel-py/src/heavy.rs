@@ -3,9 +3,9 @@
 use crate::errors::IntoPyResult;
 use kreisel_core::chaos::{self, LyapunovSettings};
 use kreisel_core::models::heavy_top::{HeavyTop, RigidState};
-use kreisel_core::rotation::{omega_body_from_euler, quaternion_from_euler};
+use kreisel_core::rotation::{omega_body_from_euler, quaternion_from_euler, Quat};
 use kreisel_core::simulate::{self, EventDef, EventKind, Settings};
-use numpy::{IntoPyArray, PyArrayMethods, PyReadonlyArray1};
+use numpy::{IntoPyArray, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::cell::RefCell;
@@ -74,7 +74,44 @@ impl PyHeavyTop {
         Ok(d)
     }
 
-    /// Simulates from (q, omega); returns a dict of columns, events and stats.
+    /// The diagnostics columns (Euler angles, energy, Mz, and M3 and Kovalevskaya's K where
+    /// they are integrals) of states given as (n, 4) unit quaternions and (n, 3) body rates,
+    /// taken as they are.
+    fn columns<'py>(
+        &self,
+        py: Python<'py>,
+        quaternion: PyReadonlyArray2<'py, f64>,
+        omega: PyReadonlyArray2<'py, f64>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let (q, w) = (quaternion.as_array(), omega.as_array());
+        let states: Vec<RigidState> = q
+            .rows()
+            .into_iter()
+            .zip(w.rows())
+            .map(|(q, w)| RigidState {
+                q: Quat([q[0], q[1], q[2], q[3]]),
+                omega: [w[0], w[1], w[2]],
+            })
+            .collect();
+        let top = self.inner;
+        let cols = py.detach(move || simulate::columns(&top, &states));
+        let d = PyDict::new(py);
+        d.set_item("theta", cols.theta.into_pyarray(py))?;
+        d.set_item("phi", cols.phi.into_pyarray(py))?;
+        d.set_item("psi", cols.psi.into_pyarray(py))?;
+        d.set_item("energy", cols.energy.into_pyarray(py))?;
+        d.set_item("Mz", cols.mz.into_pyarray(py))?;
+        if let Some(v) = cols.m3 {
+            d.set_item("M3", v.into_pyarray(py))?;
+        }
+        if let Some(v) = cols.kovalevskaya {
+            d.set_item("kovalevskaya", v.into_pyarray(py))?;
+        }
+        Ok(d)
+    }
+
+    /// Simulates from (q, omega); returns a dict of the states, the names of the diagnostics
+    /// columns (see `columns`), events and stats.
     /// `events`: (name, kind, callable or None, value, direction, terminal) with kind
     /// "user", "turning_points" or "theta_crossing".
     #[pyo3(signature = (q, omega, t_end, method, rtol, atol, dt=None, t_eval=None, events=Vec::new(), reduced=false))]
@@ -128,7 +165,6 @@ impl PyHeavyTop {
             return Err(e);
         }
         let out = result.py(py)?;
-        let cols = simulate::columns(&top, &out.states);
         let n = out.t.len();
         let d = PyDict::new(py);
         let quat: Vec<f64> = out.states.iter().flat_map(|s| s.q.0).collect();
@@ -136,17 +172,15 @@ impl PyHeavyTop {
         d.set_item("t", out.t.into_pyarray(py))?;
         d.set_item("quaternion", quat.into_pyarray(py).reshape([n, 4])?)?;
         d.set_item("omega", om.into_pyarray(py).reshape([n, 3])?)?;
-        d.set_item("theta", cols.theta.into_pyarray(py))?;
-        d.set_item("phi", cols.phi.into_pyarray(py))?;
-        d.set_item("psi", cols.psi.into_pyarray(py))?;
-        d.set_item("energy", cols.energy.into_pyarray(py))?;
-        d.set_item("Mz", cols.mz.into_pyarray(py))?;
-        if let Some(v) = cols.m3 {
-            d.set_item("M3", v.into_pyarray(py))?;
+        // The diagnostics follow from these states on demand (`columns`): their names.
+        let mut derived = vec!["theta", "phi", "psi", "energy", "Mz"];
+        if top.m3(&s0).is_some() {
+            derived.push("M3");
         }
-        if let Some(v) = cols.kovalevskaya {
-            d.set_item("kovalevskaya", v.into_pyarray(py))?;
+        if top.kovalevskaya(&s0).is_some() {
+            derived.push("kovalevskaya");
         }
+        d.set_item("derived", derived)?;
         d.set_item("events", out.events)?;
         let stats = PyDict::new(py);
         stats.set_item("steps", out.stats.steps)?;

@@ -15,6 +15,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<lagrange::PyLagrangeTop>()?;
     m.add_class::<heavy::PyHeavyTop>()?;
     m.add_class::<play::PyPlayTop>()?;
+    m.add_class::<play::PyPlayRun>()?;
     m.add_class::<stability::PyPlayStability>()?;
     m.add_function(wrap_pyfunction!(batch::play_many, m)?)?;
     m.add_function(wrap_pyfunction!(batch::heavy_many, m)?)?;

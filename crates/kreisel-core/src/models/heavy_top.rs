@@ -83,6 +83,8 @@ pub struct HeavyTop {
     g: f64,
     /// m g c
     mgc: [f64; 3],
+    /// Euler's coefficients `((I2 - I3)/I1, (I3 - I1)/I2, (I1 - I2)/I3)`.
+    euler: [f64; 3],
     kind: TopKind,
 }
 
@@ -149,6 +151,7 @@ impl HeavyTop {
             com,
             g,
             mgc,
+            euler: [(i2 - i3) / i1, (i3 - i1) / i2, (i1 - i2) / i3],
             kind,
         })
     }
@@ -260,17 +263,13 @@ impl HeavyTop {
     pub fn rhs(&self, y: &[f64; 7], dy: &mut [f64; 7]) {
         let q = Quat([y[0], y[1], y[2], y[3]]);
         let w = [y[4], y[5], y[6]];
-        let dq = q.hamilton(Quat([0.0, w[0], w[1], w[2]]));
-        dy[0] = 0.5 * dq.0[0];
-        dy[1] = 0.5 * dq.0[1];
-        dy[2] = 0.5 * dq.0[2];
-        dy[3] = 0.5 * dq.0[3];
-        let m = self.momentum(w);
-        let gyro = cross(m, w);
+        dy[..4].copy_from_slice(&q.half_times_pure(w));
+        // Euler's equations, I1 dw1/dt = (I2 - I3) w2 w3 + torque_1 and cyclically.
         let torque = cross(q.up_in_body(), self.mgc);
-        dy[4] = (gyro[0] + torque[0]) * self.inv_inertia[0];
-        dy[5] = (gyro[1] + torque[1]) * self.inv_inertia[1];
-        dy[6] = (gyro[2] + torque[2]) * self.inv_inertia[2];
+        let (e, inv) = (self.euler, self.inv_inertia);
+        dy[4] = e[0] * w[1] * w[2] + torque[0] * inv[0];
+        dy[5] = e[1] * w[2] * w[0] + torque[1] * inv[1];
+        dy[6] = e[2] * w[0] * w[1] + torque[2] * inv[2];
     }
 }
 

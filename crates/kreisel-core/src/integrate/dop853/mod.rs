@@ -44,6 +44,28 @@ const FAC_MAX: f64 = 6.0;
 /// Exponent of the controller, `1 / (q + 1)` with error-estimator order `q = 7`.
 const ERR_EXPONENT: f64 = 1.0 / 8.0;
 
+/// Weights `bhh = b - E3` of the embedded 3rd-order solution: nonzero at stages 0, 8 and 11
+/// only, so the 3rd-order estimate is the 8th-order combination less three terms (`dop853.f`).
+const BHH: [f64; 12] = {
+    let mut bhh = [0.0; 12];
+    let mut j = 0;
+    while j < 12 {
+        bhh[j] = co::B[j] - co::E3[j];
+        j += 1;
+    }
+    bhh
+};
+
+// `attempt` starts every linear combination of stages with stage 0: its weight is nonzero.
+const _: () = {
+    let mut s = 1;
+    while s < 12 {
+        assert!(co::A[s][0] != 0.0);
+        s += 1;
+    }
+    assert!(co::B[0] != 0.0 && co::E5[0] != 0.0 && BHH[0] != 0.0);
+};
+
 /// Settings of the adaptive DOP853 integrator (Hairer–Nørsett–Wanner).
 ///
 /// Tolerances are scalar: the local error of component `i` is kept below
@@ -443,9 +465,15 @@ impl Dop853 {
         let mut ys = [0.0; N];
         // Linear combinations written out term by term (the macro lists the stage indices):
         // each coefficient is a constant, so zero terms vanish at compile time.
+        // The first term initialises the sum (every combination here has a nonzero weight
+        // for stage 0): `0.0 + x` is not `x` in IEEE arithmetic, so it would cost an addition.
         macro_rules! combo {
-            ($coef:expr; $($j:literal)*) => {{
+            ($coef:expr; $first:literal $($j:literal)*) => {{
+                let c0: f64 = $coef[$first];
                 let mut acc = [0.0f64; N];
+                for i in 0..N {
+                    acc[i] = c0 * k[$first][i];
+                }
                 $(
                     let cj: f64 = $coef[$j];
                     if cj != 0.0 {
@@ -481,10 +509,12 @@ impl Dop853 {
         stage!(11; 0 1 2 3 4 5 6 7 8 9 10);
         let acc = combo!(co::B; 0 1 2 3 4 5 6 7 8 9 10 11);
         let e5 = combo!(co::E5; 0 1 2 3 4 5 6 7 8 9 10 11);
-        let e3 = combo!(co::E3; 0 1 2 3 4 5 6 7 8 9 10 11);
+        let bhh = combo!(BHH; 0 1 2 3 4 5 6 7 8 9 10 11);
         let mut y_new = [0.0; N];
+        let mut e3 = [0.0; N];
         for i in 0..N {
             y_new[i] = y[i] + h * acc[i];
+            e3[i] = acc[i] - bhh[i];
         }
         finite &= all_finite(&y_new);
 

@@ -1,0 +1,61 @@
+//! Times benchmark case T1 in the core alone: the simulation, then the diagnostics columns.
+use kreisel_core::models::play_top::{Friction, PlayTop, DIM};
+use kreisel_core::rotation::{omega_body_from_euler, quaternion_from_euler};
+use kreisel_core::simulate_play::{play_columns, simulate_play, PlaySettings};
+use std::time::Instant;
+fn main() {
+    let (m, rho, s) = (0.02, 0.02, 0.006);
+    let c = 0.4 * m * rho * rho;
+    let top = PlayTop::new(
+        m,
+        0.8 * c,
+        c,
+        s,
+        rho,
+        9.81,
+        Friction::Viscous { mu: 1.0 },
+        0.0,
+        0.0,
+        0.0,
+        0.0,
+    )
+    .unwrap();
+    let th = std::f64::consts::PI - 0.1;
+    let q = quaternion_from_euler(0.0, th, 0.0);
+    let w = omega_body_from_euler(th, 0.0, 0.0, 0.0, 150.0);
+    let y0 = top.state(q, w, 0.0, 0.0, None).unwrap();
+    let st = PlaySettings {
+        t_end: 12.0,
+        rtol: 1e-9,
+        atol: 1e-12,
+        t_eval: None,
+        inversion_level: None,
+        stop_at_inversion: false,
+        stop_at_rest: false,
+    };
+    let reps: usize = std::env::var("REPS")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(20);
+    let (mut a, mut b) = (f64::MAX, f64::MAX);
+    let mut steps = 0;
+    let mut last: [f64; DIM] = y0;
+    for _ in 0..reps {
+        let t0 = Instant::now();
+        let out = simulate_play(&top, y0, &st).unwrap();
+        let t1 = Instant::now();
+        let c = play_columns(&top, &out.y, &out.mode, &out.dir);
+        let t2 = Instant::now();
+        a = a.min((t1 - t0).as_secs_f64());
+        b = b.min((t2 - t1).as_secs_f64());
+        assert!(c.u.len() == out.t.len());
+        steps = out.steps;
+        last = *out.y.last().unwrap();
+    }
+    println!(
+        "integrate {:.3} ms, columns {:.3} ms, steps {steps}, final u {:.9}",
+        a * 1e3,
+        b * 1e3,
+        top.kin(&last).u
+    );
+}

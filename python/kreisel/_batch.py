@@ -137,13 +137,21 @@ def simulate_many(
                 f"models contains {m!r}, which is not allowed: use PlayTop, HeavyTop or "
                 "LagrangeTop (one kind per batch)"
             )
+    packed = [ms[i]._check(s) for i, s in enumerate(ss)]
+    return _play_many_packed(
+        [m._native for m in ms], packed, t_end, rtol, atol, inversion_level, threads, progress
+    )
+
+
+def _play_many_packed(natives, packed, t_end, rtol, atol, inversion_level, threads, progress):
+    """The play-top batch on native tops and packed states (q, omega, com, com_velocity)."""
     t_end = _t_end(t_end)
     rtol, atol = _tolerances(rtol, atol)
     out = _in_pieces(
         _core.play_many,
         progress,
-        [m._native for m in ms],
-        [ms[i]._check(s) for i, s in enumerate(ss)],
+        natives,
+        packed,
         t_end,
         rtol,
         atol,

@@ -555,22 +555,25 @@ def compute_chunk(spec: dict, values: dict, threads=None) -> dict:
 
     ``spec`` is :meth:`SweepSpec.as_dict`, ``values`` the swept values of each run.
     """
-    from ._batch import _lyapunov_many, simulate_many
+    from ._batch import _lyapunov_many, _play_many_packed, simulate_many
 
     kind = spec["kind"]
     n = len(next(iter(values.values())))
+    state_of = _play_packed if kind == "play" else (lambda m, s: _config._state(kind, m, s, ""))
     models, states, where, errors = [], [], [], {}
+    # one top per combination of the swept top parameters
     cache = {}
+    of_top = [k for k in values if _where(kind, k)[0] == "top"]
+    of_state = [k for k in values if k not in of_top]
     for i in range(n):
-        top, state = _compose(
-            kind, spec["top"], spec["state"], {k: v[i] for k, v in values.items()}
-        )
-        key = tuple((k, tuple(v) if isinstance(v, list) else v) for k, v in sorted(top.items()))
+        key = tuple(float(values[k][i]) for k in of_top)
+        _, state = _compose(kind, {}, spec["state"], {k: values[k][i] for k in of_state})
         try:
             if key not in cache:
+                top, _ = _compose(kind, spec["top"], {}, dict(zip(of_top, key)))
                 cache[key] = _config._model(kind, top, "")
             model = cache[key]
-            states.append(_config._state(kind, model, state, ""))
+            states.append(state_of(model, state))
             models.append(model)
             where.append(i)
         except ParameterError as e:
@@ -600,7 +603,11 @@ def compute_chunk(spec: dict, values: dict, threads=None) -> dict:
             kw.update(method=sim.get("method", "dop853"), dt=sim.get("dt"))
         t_end = sim.get("t_end", _config.DEFAULT_T_END[kind])
         kept_here = [k for k in kept if k != "lyapunov"]
-        res = simulate_many(models, states, t_end, **kw) if kept_here else None
+        if kind == "play":  # states already packed: straight to the core's batch
+            res = _play_many_packed([m._native for m in models], states, t_end, kw["rtol"],
+                                    kw["atol"], kw["inversion_level"], threads, False)  # fmt: skip
+        else:
+            res = simulate_many(models, states, t_end, **kw) if kept_here else None
         idx = np.array(where)
         if "lyapunov" in kept:
             lam, lam_errors = _lyapunov_many(
@@ -632,6 +639,32 @@ def compute_chunk(spec: dict, values: dict, threads=None) -> dict:
     out["status"] = status
     out["errors"] = errors
     return out
+
+
+_PLAY_STATE = ("theta", "phi", "psi", "theta_dot", "phi_dot", "psi_dot")
+
+
+def _play_packed(model, state: dict):
+    """The packed contact (or dropped) state of a play top from a [state] table: what
+    ``model.state(**state)`` gives, with the same checks, without the objects around it."""
+    from . import _core
+
+    unknown = set(state) - {*_PLAY_STATE, "vx", "vy", "height"}
+    if unknown or "theta" not in state:
+        return model._check(_config._state("play", model, state, ""))  # its messages
+    try:
+        e = tuple(float(state.get(k, 0.0)) for k in _PLAY_STATE)
+        _core.check_euler_state(e)
+        q, w = _core.rigid_from_euler(*e)
+        h = state.get("height")
+        return model._native.state(
+            q, w, float(state.get("vx", 0.0)), float(state.get("vy", 0.0)),
+            None if h is None else float(h),
+        )  # fmt: skip
+    except (TypeError, ValueError) as err:
+        if isinstance(err, ParameterError):
+            raise
+        raise ParameterError(str(err)) from None
 
 
 # --------------------------------------------------------------------------------------
@@ -725,6 +758,9 @@ def _create(store, spec: SweepSpec, samples: dict):
             fill_value=fill,
             dimension_names=list(spec.dims),
             attributes=a,
+            # a few numbers per run: compressing them saves little and costs a
+            # millisecond per chunk written, on the core the runs need
+            compressors=None,
         )
     root.create_array(
         "status",
@@ -747,23 +783,31 @@ def _create(store, spec: SweepSpec, samples: dict):
     return root
 
 
-def _write(root, spec: SweepSpec, k: int, result: dict):
-    sl = spec.chunk_slices(k)
-    shape = tuple(s.stop - s.start for s in sl)
-    for name in (*spec.keep, "status"):
-        root[name][sl] = np.asarray(result[name]).reshape(shape)
-    errs = json.loads(root.attrs.get("run_errors", "{}"))
-    n = len(errs)
-    for i in range(int(np.prod(shape))):  # a rewritten chunk's old messages go
-        at = tuple(int(s.start + j) for s, j in zip(sl, np.unravel_index(i, shape)))
-        key = ",".join(map(str, at))
-        if i in result["errors"]:
-            errs[key] = result["errors"][i]
-        else:
-            errs.pop(key, None)
-    if errs or n:
-        root.attrs["run_errors"] = json.dumps(errs, sort_keys=True)
-    root["chunk_done"][k] = 1
+class _Writer:
+    """Writes finished chunks into the store: the arrays are opened once; a chunk's flag goes
+    last, after its data and its run errors."""
+
+    def __init__(self, root, spec: SweepSpec):
+        self.root, self.spec = root, spec
+        self.arrays = {n: root[n] for n in (*spec.keep, "status", "chunk_done")}
+        self.errors = json.loads(root.attrs.get("run_errors", "{}"))
+
+    def write(self, k: int, result: dict):
+        sl = self.spec.chunk_slices(k)
+        shape = tuple(s.stop - s.start for s in sl)
+        for name in (*self.spec.keep, "status"):
+            self.arrays[name][sl] = np.asarray(result[name]).reshape(shape)
+        # a rewritten chunk's old messages go, its new ones come
+        old = [key for key in self.errors
+               if all(s.start <= int(a) < s.stop for s, a in zip(sl, key.split(",")))]  # fmt: skip
+        for key in old:
+            del self.errors[key]
+        for i, msg in result["errors"].items():
+            at = (s.start + int(j) for s, j in zip(sl, np.unravel_index(int(i), shape)))
+            self.errors[",".join(map(str, at))] = msg
+        if old or result["errors"]:
+            self.root.attrs["run_errors"] = json.dumps(self.errors, sort_keys=True)
+        self.arrays["chunk_done"][k] = 1
 
 
 def open_sweep(store):
@@ -904,12 +948,13 @@ def sweep(
         todo = [k for k in range(sp.n_chunks) if not done[k]]
         payload = sp.as_dict()
         runs = {k: int(np.prod([s.stop - s.start for s in sp.chunk_slices(k)])) for k in todo}
+        writer = _Writer(root, sp)
         finished = sp.n_chunks - len(todo)
         work = closing(_results(sp, payload, todo, samples, client, threads))
         bar = tqdm(total=sum(runs.values()), unit="run", desc="sweep", disable=not progress)
         with bar, work as results:
             for k, result in results:
-                _write(root, sp, k, result)
+                writer.write(k, result)
                 finished += 1
                 bar.update(runs[k])
                 if callback is not None:
@@ -930,7 +975,8 @@ def _results(sp: SweepSpec, payload: dict, todo: list, samples: dict, client, th
 
         # `threads` chunks in flight, each on its own core (the GIL is released while the
         # core's batch runs, so one chunk's set-up in Python overlaps the others' runs);
-        # fewer chunks than cores: the cores are shared out inside each chunk instead
+        # fewer chunks than cores: the cores are shared out inside each chunk instead.
+        # (Every chunk on every core was measured slower: two pools on two cores.)
         cores = threads or os.cpu_count() or 1
         lanes = max(1, min(cores, len(todo)))
         inner = max(1, cores // lanes)

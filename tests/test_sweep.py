@@ -489,3 +489,22 @@ def test_exact_lagrange_sweep_maps_the_kinds_of_motion(tmp_path):
         kreisel.sweep(play_spec(simulation={"exact": True}), None, progress=False)
     with pytest.raises(kreisel.ParameterError, match="not a summary of the exact solution"):
         kreisel.sweep({**tables, "output": {"keep": ["steps"]}}, None, progress=False)
+
+
+def test_a_chunk_split_into_tasks_gives_the_same_store(tmp_path, monkeypatch):
+    from kreisel import _sweep
+
+    tables = play_spec(
+        grid={"psi_dot": [80.0, 120.0, 160.0, 200.0], "height": [0.004, -0.01]},
+        output={"chunk": 8},
+    )
+    tables["top"]["s"] = S
+    whole = kreisel.sweep(tables, tmp_path / "whole.zarr", progress=False)
+    monkeypatch.setattr(_sweep, "TASK_RUNS", 3)  # one chunk of 8 runs in 3 tasks
+    assert [len(t[4]["psi_dot"]) for t in _sweep._tasks(_sweep.load_spec(tables), [0], {})] == [
+        3, 2, 3,
+    ]  # fmt: skip
+    split = kreisel.sweep(tables, tmp_path / "split.zarr", progress=False)
+    assert_same(whole, split)
+    assert split.attrs["run_errors"] == whole.attrs["run_errors"]
+    assert len(json.loads(split.attrs["run_errors"])) == 4  # the runs below the floor

@@ -965,32 +965,72 @@ def sweep(
     return open_sweep(store)
 
 
+TASK_RUNS = 256  # at most this many runs per task: a store chunk may be split into tasks
+
+
+def _tasks(sp: SweepSpec, todo: list, samples: dict) -> list:
+    """(chunk, part, values) for every task: each chunk's runs (C order within its block)
+    cut into contiguous parts of at most TASK_RUNS, so a large store chunk (few writes)
+    still spreads over many cores and leaves a short tail."""
+    out = []
+    for k in todo:
+        values = sp.chunk_values(k, samples)
+        n = len(next(iter(values.values())))
+        parts = -(-n // TASK_RUNS)
+        bounds = [round(j * n / parts) for j in range(parts + 1)]
+        for j in range(parts):
+            a, b = bounds[j], bounds[j + 1]
+            out.append((k, j, parts, a, {name: v[a:b] for name, v in values.items()}))
+    return out
+
+
+def _join(parts: list) -> dict:
+    """The result of a whole chunk from those of its parts (in order, with their offsets)."""
+    out = {}
+    for name in parts[0][1]:
+        if name != "errors":
+            out[name] = np.concatenate([r[name] for _, r in parts])
+    out["errors"] = {a + int(i): msg for a, r in parts for i, msg in r["errors"].items()}
+    return out
+
+
 def _results(sp: SweepSpec, payload: dict, todo: list, samples: dict, client, threads):
     """(chunk, result) pairs as chunks finish; pending work is cancelled if the consumer
     stops (an exception, an interrupt)."""
     if not todo:
         return
+    tasks = _tasks(sp, todo, samples)
+    done: dict = {}
+
+    def finished(task, result):
+        k, j, parts, a, _ = task
+        done.setdefault(k, {})[j] = (a, result)
+        if len(done[k]) == parts:
+            mine = done.pop(k)
+            return k, _join([mine[i] for i in range(parts)])
+        return None
+
     if client is None:
         from concurrent.futures import FIRST_COMPLETED, ThreadPoolExecutor, wait
 
-        # `threads` chunks in flight, each on its own core (the GIL is released while the
-        # core's batch runs, so one chunk's set-up in Python overlaps the others' runs);
-        # fewer chunks than cores: the cores are shared out inside each chunk instead.
-        # (Every chunk on every core was measured slower: two pools on two cores.)
+        # `threads` tasks in flight, each on its own core (the GIL is released while the
+        # core's batch runs, so one task's set-up in Python overlaps the others' runs);
+        # fewer tasks than cores: the cores are shared out inside each task instead.
+        # (Two tasks each on every core was measured slower: two pools on two cores.)
         cores = threads or os.cpu_count() or 1
-        lanes = max(1, min(cores, len(todo)))
+        lanes = max(1, min(cores, len(tasks)))
         inner = max(1, cores // lanes)
         with ThreadPoolExecutor(lanes) as pool:
-            futures = {
-                pool.submit(compute_chunk, payload, sp.chunk_values(k, samples), inner): k
-                for k in todo
-            }
+            futures = {pool.submit(compute_chunk, payload, tk[4], inner): tk for tk in tasks}
+            order = {f: i for i, f in enumerate(futures)}
             try:
                 pending = set(futures)
                 while pending:
-                    finished, pending = wait(pending, return_when=FIRST_COMPLETED)
-                    for f in sorted(finished, key=futures.get):
-                        yield futures[f], f.result()
+                    ready, pending = wait(pending, return_when=FIRST_COMPLETED)
+                    for f in sorted(ready, key=order.get):
+                        whole = finished(futures[f], f.result())
+                        if whole is not None:
+                            yield whole
             finally:
                 for f in futures:
                     f.cancel()
@@ -999,22 +1039,19 @@ def _results(sp: SweepSpec, payload: dict, todo: list, samples: dict, client, th
 
     token = uuid.uuid4().hex[:12]
     futures = {}
-    for k in todo:
-        f = client.submit(
-            compute_chunk,
-            payload,
-            sp.chunk_values(k, samples),
-            1,
-            key=f"kreisel-sweep-{token}-{k}",
-            pure=False,
-        )
-        futures[f.key] = (k, f)
+    for tk in tasks:
+        k, j = tk[0], tk[1]
+        f = client.submit(compute_chunk, payload, tk[4], 1,
+                          key=f"kreisel-sweep-{token}-{k}-{j}", pure=False)  # fmt: skip
+        futures[f.key] = (tk, f)
     try:
         for f in as_completed([f for _, f in futures.values()], loop=client.loop):
-            k = futures.pop(f.key)[0]
+            tk = futures.pop(f.key)[0]
             result = f.result()
             f.release()
-            yield k, result
+            whole = finished(tk, result)
+            if whole is not None:
+                yield whole
     finally:
         if futures:
             client.cancel([f for _, f in futures.values()])

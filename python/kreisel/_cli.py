@@ -345,10 +345,11 @@ def sweep_command(file, store, scheduler, threads, var, overwrite, retry_failed,
     """Run the sweep a TOML file describes into a Zarr store, and draw it.
 
     \b
-    [top], [state], [simulation]   as for `kreisel run` (without exact or samples)
+    [top], [state], [simulation]   as for `kreisel run` (no samples; exact = true: the
+                                   analysis of each lagrange top, no integration)
     [grid]     NAME = [values] or {start, stop, num, scale = "linear" | "log"}
     [random]   n, seed, NAME = {low, high, scale}
-    [output]   keep = [summaries], chunk = runs per chunk, inversion_level
+    [output]   keep = [summaries], chunk = runs per chunk, inversion_level, lyapunov_tau
     An interrupted sweep resumes where it stopped when run again.
     """
     import json

@@ -214,3 +214,29 @@ def test_diagnostics_are_those_of_the_simulated_states_even_after_an_edit():
     )
     np.testing.assert_allclose(run.contact_point, com - s * e3 - [0.0, 0.0, rho], atol=1e-15)
     np.testing.assert_allclose(run.u, e3[:, 2], rtol=0, atol=1e-15)
+
+
+def test_the_stub_of_the_compiled_module_names_what_it_holds():
+    """python/kreisel/_core.pyi documents kreisel._core: the same functions and classes,
+    and the same methods on each class (so the stub cannot drift from the bindings)."""
+    import ast
+    import inspect
+    import pathlib
+
+    from kreisel import _core
+
+    tree = ast.parse((pathlib.Path(_core.__file__).parent / "_core.pyi").read_text())
+    stub_defs = {n.name for n in tree.body if isinstance(n, ast.FunctionDef)}
+    stub_classes = {
+        n.name: {m.name for m in n.body if isinstance(m, ast.FunctionDef) and m.name != "__new__"}
+        for n in tree.body
+        if isinstance(n, ast.ClassDef)
+    }
+    real_defs = {n for n, o in vars(_core).items() if callable(o) and not inspect.isclass(o)}
+    real_classes = {
+        n: {m for m in vars(o) if not m.startswith("__")}
+        for n, o in vars(_core).items()
+        if inspect.isclass(o)
+    }
+    assert stub_defs == real_defs
+    assert stub_classes == real_classes

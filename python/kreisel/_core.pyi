@@ -1,0 +1,177 @@
+"""The compiled module ``kreisel._core`` (crates/kreisel-py): conversion only, no physics.
+
+Private: the public API is the Python package around it. SI units and radians throughout;
+quaternions are scalar-first (w, x, y, z) and rotate body-frame vectors into space; omega
+is in the body frame. A "packed" play-top state is (q, omega, com, com_velocity). Every
+error is a ``kreisel.ParameterError`` (bad input, naming the argument) or a
+``kreisel.NumericalError``.
+"""
+
+from collections.abc import Callable, Sequence
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+__version__: str
+
+F64 = NDArray[np.float64]
+Quaternion = tuple[float, float, float, float] | Sequence[float]
+Vector3 = tuple[float, float, float] | Sequence[float]
+EulerTuple = tuple[float, float, float, float, float, float]  # theta, phi, psi and rates
+Packed = tuple[Sequence[float], Sequence[float], Sequence[float], Sequence[float]]
+# (kind, name, user function of (t, q, omega) or None, level, direction, terminal)
+EventTuple = tuple[str, str, Callable[[float, F64, F64], float] | None, float, int, bool]
+
+class LagrangeTop:
+    def __new__(cls, i1: float, i3: float, m: float, l: float, g: float) -> LagrangeTop: ...
+    def analyse(self, s: EulerTuple) -> dict[str, Any]: ...
+    def effective_potential(self, theta: ArrayLike, mz: float, m3: float) -> F64: ...
+    def exact(
+        self, s: EulerTuple, t: ArrayLike, direct: bool = False
+    ) -> tuple[F64, F64, F64, F64, F64, F64]: ...
+    def invariants(self, s: EulerTuple) -> tuple[float, float, float]: ...
+    def nutation_frequency(self, theta0: float, omega3: float, rate: float) -> float: ...
+    def sleeping_threshold(self) -> float: ...
+    def steady_precession(self, theta0: float, omega3: float) -> tuple[float, float]: ...
+
+class HeavyTop:
+    def __new__(
+        cls, i1: float, i2: float, i3: float, m: float, com: Vector3, g: float
+    ) -> HeavyTop: ...
+    @property
+    def kind(self) -> str: ...
+    def check_rigid(self, q: Quaternion, omega: Vector3) -> tuple[list[float], list[float]]: ...
+    def invariants(self, q: Quaternion, omega: Vector3) -> dict[str, float]: ...
+    def columns(self, quaternion: F64, omega: F64) -> dict[str, F64]: ...
+    def simulate(
+        self,
+        q: Quaternion,
+        omega: Vector3,
+        t_end: float,
+        method: str,
+        rtol: float,
+        atol: float,
+        dt: float | None = None,
+        t_eval: Sequence[float] | None = None,
+        events: Sequence[EventTuple] = ...,
+        reduced: bool = False,
+    ) -> dict[str, Any]: ...
+    def lyapunov(
+        self,
+        q: Quaternion,
+        omega: Vector3,
+        t_end: float,
+        tau: float,
+        d0: float,
+        direction: Sequence[float],
+        rtol: float,
+        atol: float,
+    ) -> dict[str, Any]: ...
+
+class PlayTop:
+    def __new__(
+        cls,
+        m: float,
+        a: float,
+        c: float,
+        s: float,
+        rho: float,
+        g: float,
+        friction: str,
+        mu: float,
+        restitution: float,
+        rolling: float,
+        drilling: float,
+        air: float,
+    ) -> PlayTop: ...
+    @property
+    def alpha(self) -> float: ...
+    @property
+    def gamma(self) -> float: ...
+    @property
+    def j_beta(self) -> float: ...
+    def state(
+        self, q: Quaternion, omega: Vector3, vx: float, vy: float, height: float | None = None
+    ) -> Packed: ...
+    def invariants(self, s: Packed) -> tuple[float, float]: ...
+    def simulate(
+        self,
+        s: Packed,
+        t_end: float,
+        rtol: float,
+        atol: float,
+        t_eval: Sequence[float] | None = None,
+        inversion_level: float | None = None,
+        stop_at_inversion: bool = False,
+        stop_at_rest: bool = False,
+    ) -> dict[str, Any]: ...
+
+class PlayRun:
+    """The states of a play-top run, kept natively; diagnostics on first read."""
+
+    def columns(self) -> dict[str, F64]: ...
+
+class PlayStability:
+    def __new__(cls, top: PlayTop) -> PlayStability: ...
+    def j_r(self, u: ArrayLike) -> F64: ...
+    def regular_precession(self, u: float) -> tuple[float, float, float, float]: ...
+    def stationary_motions(
+        self, j: float
+    ) -> list[tuple[str, float, bool, float, float, float]]: ...
+    def stationary_energy(self, j: float, u: ArrayLike) -> F64: ...
+    def predict(self, j: float, energy: float, u: float) -> tuple[Any, Any, Any]: ...
+    def frictionless_nutation(self, state: Packed) -> tuple[float, float, float, float]: ...
+
+# batches: the GIL is released while the runs go; columns NaN and a message where one fails
+def play_many(
+    tops: Sequence[PlayTop],
+    states: Sequence[Packed],
+    t_end: float,
+    rtol: float,
+    atol: float,
+    inversion_level: float,
+    threads: int | None = None,
+) -> dict[str, Any]: ...
+def heavy_many(
+    tops: Sequence[HeavyTop],
+    states: Sequence[tuple[Quaternion, Vector3]],
+    t_end: float,
+    method: str,
+    rtol: float,
+    atol: float,
+    dt: float | None = None,
+    threads: int | None = None,
+) -> dict[str, Any]: ...
+def lyapunov_many(
+    tops: Sequence[HeavyTop],
+    states: Sequence[tuple[Quaternion, Vector3]],
+    t_end: float,
+    tau: float,
+    d0: float,
+    direction: Sequence[float],
+    rtol: float,
+    atol: float,
+    threads: int | None = None,
+) -> dict[str, Any]: ...
+
+# states and methods
+def check_euler_state(s: EulerTuple) -> None: ...
+def rigid_from_euler(
+    theta: float, phi: float, psi: float, theta_dot: float, phi_dot: float, psi_dot: float
+) -> tuple[list[float], list[float]]: ...
+def methods() -> list[tuple[str, int, bool, bool, bool, str]]: ...
+
+# special functions (kreisel.special)
+def ellipj(u: ArrayLike, m: float) -> tuple[F64, F64, F64, F64]: ...
+def ellipk(m: float) -> float: ...
+def ellipf(phi: ArrayLike, m: float) -> F64: ...
+def ellippi(n: float, m: float) -> float: ...
+def ellippiinc(n: float, phi: ArrayLike, m: float) -> F64: ...
+def cubic_roots(c0: float, c1: float, c2: float, c3: float) -> list[float]: ...
+
+# the atlas of play tops
+def play_u_m(alpha: float, gamma: float) -> float | None: ...
+def play_classify(alpha: float, gamma: float) -> tuple[str, int, str]: ...
+def play_zones(alpha: ArrayLike, gamma: ArrayLike) -> NDArray[np.int64]: ...
+def play_zone_boundaries(alpha: ArrayLike) -> dict[str, F64]: ...

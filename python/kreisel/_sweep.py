@@ -11,8 +11,14 @@ A sweep spec has the tables of a ``kreisel run`` file ([top], [state], [simulati
     ``n`` random samples (crossed with the grid if both are given) drawn with ``seed``
     (default 0); each entry ``{low, high}``, uniform, or log-uniform with ``scale = "log"``.
 ``[output]``
-    ``keep``: the per-run summaries to store (default: all of the model's);
-    ``chunk``: runs per chunk (default 256); ``inversion_level`` (play tops, default 0.9).
+    ``keep``: the per-run summaries to store (default: all of the model's but
+    ``lyapunov``); ``chunk``: runs per store chunk (default 256; a chunk is computed as
+    tasks of at most 256 runs); ``inversion_level`` (play tops, default 0.9);
+    ``lyapunov_tau`` (heavy tops keeping ``lyapunov``: the renormalisation interval, s).
+
+With ``[simulation] exact = true`` a Lagrange-top sweep keeps the analysis of each state
+(``motion_kind``, ``theta_min``, ``theta_max``, ``nutation_period``,
+``mean_precession_rate``) and integrates nothing.
 
 Any scalar field of [top] (not ``friction``) or Euler field of [state] can be swept; a
 heavy top's centre of mass is swept by component (``com_x``, ``com_y``, ``com_z``).

@@ -80,42 +80,92 @@ fn relative(d: f64, scale: f64) -> f64 {
     }
 }
 
-/// Summarises one heavy-top run (states recorded at every step or at `t_eval`).
+/// The running summary of a heavy-top run, fed one state at a time.
+struct HeavyAcc<'a> {
+    top: &'a HeavyTop,
+    e0: f64,
+    mz0: f64,
+    m30: Option<f64>,
+    k0: Option<f64>,
+    m_norm: f64,
+    e_scale: f64,
+    theta: f64,
+    th_min: f64,
+    th_max: f64,
+    de: f64,
+    dmz: f64,
+    dm3: f64,
+    dk: f64,
+}
+
+impl<'a> HeavyAcc<'a> {
+    fn new(top: &'a HeavyTop, s0: &RigidState) -> Self {
+        let mom = top.momentum(s0.omega);
+        let c = top.com();
+        let kinetic = 0.5 * (mom[0] * s0.omega[0] + mom[1] * s0.omega[1] + mom[2] * s0.omega[2]);
+        HeavyAcc {
+            top,
+            e0: top.energy(s0),
+            mz0: top.mz(s0),
+            m30: top.m3(s0),
+            k0: top.kovalevskaya(s0),
+            m_norm: (mom[0] * mom[0] + mom[1] * mom[1] + mom[2] * mom[2]).sqrt(),
+            e_scale: kinetic + top.m() * top.g() * (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt(),
+            theta: f64::NAN,
+            th_min: f64::INFINITY,
+            th_max: f64::NEG_INFINITY,
+            de: 0.0,
+            dmz: 0.0,
+            dm3: 0.0,
+            dk: 0.0,
+        }
+    }
+
+    fn push(&mut self, s: &RigidState) {
+        let top = self.top;
+        self.theta = euler_from_quaternion(s.q).1;
+        self.th_min = self.th_min.min(self.theta);
+        self.th_max = self.th_max.max(self.theta);
+        self.de = self.de.max((top.energy(s) - self.e0).abs());
+        self.dmz = self.dmz.max((top.mz(s) - self.mz0).abs());
+        if let (Some(a), Some(b)) = (self.m30, top.m3(s)) {
+            self.dm3 = self.dm3.max((b - a).abs());
+        }
+        if let (Some(a), Some(b)) = (self.k0, top.kovalevskaya(s)) {
+            self.dk = self.dk.max((b - a).abs());
+        }
+    }
+
+    fn finish(&self, steps: u64) -> HeavySummary {
+        HeavySummary {
+            final_theta: self.theta,
+            theta_min: self.th_min,
+            theta_max: self.th_max,
+            energy_drift: relative(self.de, self.e_scale),
+            mz_drift: relative(self.dmz, self.m_norm),
+            m3_drift: self
+                .m30
+                .map_or(f64::NAN, |_| relative(self.dm3, self.m_norm)),
+            kovalevskaya_drift: self.k0.map_or(f64::NAN, |k| relative(self.dk, k.abs())),
+            steps,
+        }
+    }
+}
+
+/// Summarises one heavy-top run from its recorded states (every step or `t_eval`).
 pub fn summarise_heavy(top: &HeavyTop, states: &[RigidState], steps: u64) -> HeavySummary {
-    let s0 = &states[0];
-    let (e0, mz0) = (top.energy(s0), top.mz(s0));
-    let (m30, k0) = (top.m3(s0), top.kovalevskaya(s0));
-    let mom = top.momentum(s0.omega);
-    let m_norm = (mom[0] * mom[0] + mom[1] * mom[1] + mom[2] * mom[2]).sqrt();
-    let c = top.com();
-    let kinetic = 0.5 * (mom[0] * s0.omega[0] + mom[1] * s0.omega[1] + mom[2] * s0.omega[2]);
-    let e_scale = kinetic + top.m() * top.g() * (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt();
-    let (mut th_min, mut th_max) = (f64::INFINITY, f64::NEG_INFINITY);
-    let (mut de, mut dmz, mut dm3, mut dk) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
-    let mut theta = f64::NAN;
+    let mut acc = HeavyAcc::new(top, &states[0]);
     for s in states {
-        theta = euler_from_quaternion(s.q).1;
-        th_min = th_min.min(theta);
-        th_max = th_max.max(theta);
-        de = de.max((top.energy(s) - e0).abs());
-        dmz = dmz.max((top.mz(s) - mz0).abs());
-        if let (Some(a), Some(b)) = (m30, top.m3(s)) {
-            dm3 = dm3.max((b - a).abs());
-        }
-        if let (Some(a), Some(b)) = (k0, top.kovalevskaya(s)) {
-            dk = dk.max((b - a).abs());
-        }
+        acc.push(s);
     }
-    HeavySummary {
-        final_theta: theta,
-        theta_min: th_min,
-        theta_max: th_max,
-        energy_drift: relative(de, e_scale),
-        mz_drift: relative(dmz, m_norm),
-        m3_drift: m30.map_or(f64::NAN, |_| relative(dm3, m_norm)),
-        kovalevskaya_drift: k0.map_or(f64::NAN, |k| relative(dk, k.abs())),
-        steps,
-    }
+    acc.finish(steps)
+}
+
+/// Simulates and summarises one heavy-top run in constant memory (no states kept).
+pub fn run_heavy(top: &HeavyTop, s0: &RigidState, settings: &Settings) -> Result<HeavySummary> {
+    let mut acc = HeavyAcc::new(top, s0);
+    let stats = simulate::simulate_each(top, s0, settings, &mut |_, s| acc.push(s))?;
+    Ok(acc.finish(stats.steps))
 }
 
 /// Heavy tops: every run simulated with the same settings (any method, no events) and
@@ -126,10 +176,7 @@ pub fn heavy_many(
     threads: Option<usize>,
 ) -> Result<Vec<Result<HeavySummary>>> {
     simulate::check(settings, &simulate::method(&settings.method)?)?;
-    par_map(runs, threads, |(top, s0)| {
-        simulate::simulate(top, s0, settings, &mut [], false, &mut |_| true)
-            .map(|o| summarise_heavy(top, &o.states, o.stats.steps))
-    })
+    par_map(runs, threads, |(top, s0)| run_heavy(top, s0, settings))
 }
 
 /// Heavy tops: the largest Lyapunov exponent of every run (see [`chaos::lyapunov`]).
@@ -189,6 +236,28 @@ mod tests {
                 assert_eq!(b.final_theta.to_bits(), single.final_theta.to_bits());
                 assert_eq!(b.energy_drift.to_bits(), single.energy_drift.to_bits());
                 assert_eq!(b.steps, single.steps);
+            }
+        }
+    }
+
+    #[test]
+    fn streamed_states_are_the_recorded_ones_for_every_method() {
+        let top = lagrange();
+        let s0 = start(0.4, 90.0);
+        for info in simulate::METHODS {
+            let dt = (!info.adaptive).then_some(1e-3);
+            let mut st = settings(info.name, dt);
+            st.t_end = 0.5;
+            let out = simulate::simulate(&top, &s0, &st, &mut [], false, &mut |_| true).unwrap();
+            let mut seen = Vec::new();
+            let stats =
+                simulate::simulate_each(&top, &s0, &st, &mut |t, s| seen.push((t, *s))).unwrap();
+            assert_eq!(stats, out.stats, "{}", info.name);
+            assert_eq!(seen.len(), out.t.len(), "{}", info.name);
+            for ((t, s), (t2, s2)) in seen.iter().zip(out.t.iter().zip(&out.states)) {
+                assert_eq!(t.to_bits(), t2.to_bits(), "{}", info.name);
+                assert_eq!(s.q.0, s2.q.0, "{}", info.name);
+                assert_eq!(s.omega, s2.omega, "{}", info.name);
             }
         }
     }

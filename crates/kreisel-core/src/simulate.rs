@@ -7,10 +7,11 @@ use crate::integrate::rk4::Rk4Scheme;
 use crate::integrate::splitting::Splitting;
 use crate::integrate::verlet::Verlet;
 use crate::integrate::{
-    Dop853, EventSpec, IntegrateError, Locator, OdeSystem, Recorder, WithEvents,
+    Dense, Dop853, EventSpec, IntegrateError, Locator, Observer, OdeSystem, Recorder, WithEvents,
 };
 use crate::models::heavy_top::{HeavyTop, RigidState};
 use crate::rotation::{cross, euler_from_quaternion, Quat};
+use std::ops::ControlFlow;
 
 /// What a method is and can do.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -262,33 +263,54 @@ pub fn check(settings: &Settings, info: &MethodInfo) -> Result<()> {
     Ok(())
 }
 
-/// Runs a fixed-step scheme and decodes its states.
+/// What receives the states of a run, in order: (t, state).
+pub type Sink<'a> = &'a mut dyn FnMut(f64, &RigidState);
+
+/// Runs a fixed-step scheme and hands its decoded states to `sink`.
 fn run_fixed<S: FixedScheme>(
     scheme: &S,
     y0: S::Y,
     settings: &Settings,
     decode: impl Fn(&S::Y) -> RigidState,
     rhs_per_step: u64,
-) -> Result<Output> {
+    sink: Sink<'_>,
+) -> Result<Stats> {
     let dt = settings.dt.expect("checked");
-    let mut out = Output::default();
     fixed::run(
         scheme,
         y0,
         settings.t_end,
         dt,
         settings.t_eval.as_deref(),
-        |t, y| {
-            out.t.push(t);
-            out.states.push(decode(y));
-        },
+        |t, y| sink(t, &decode(y)),
     )?;
     let steps = ((settings.t_end / dt) * (1.0 - 1e-12)).ceil() as u64;
-    out.stats = Stats {
+    Ok(Stats {
         steps,
         rejected: 0,
         rhs_evals: steps * rhs_per_step,
-    };
+    })
+}
+
+/// The adaptive integrator at the settings' tolerances.
+fn dop853(settings: &Settings) -> Dop853 {
+    Dop853 {
+        rtol: settings.rtol,
+        atol: settings.atol,
+        h_init: None,
+        h_max: f64::INFINITY,
+        max_steps: 100_000_000,
+    }
+}
+
+/// An [`Output`] filled by a run that hands its states to a sink.
+fn collect(run: impl FnOnce(Sink<'_>) -> Result<Stats>) -> Result<Output> {
+    let mut out = Output::default();
+    let stats = run(&mut |t, s| {
+        out.t.push(t);
+        out.states.push(*s);
+    })?;
+    out.stats = stats;
     Ok(out)
 }
 
@@ -317,28 +339,23 @@ pub fn simulate(
         });
     }
     let integrator = match info.name {
-        "dop853" => Dop853 {
-            rtol: settings.rtol,
-            atol: settings.atol,
-            h_init: None,
-            h_max: f64::INFINITY,
-            max_steps: 100_000_000,
-        },
+        "dop853" => dop853(settings),
         "rk4" => {
             return if reduced {
                 let (sch, y0) = Verlet::new(top, s0)?;
                 let rk = Rk4Scheme::<_, 4> { sys: &sch };
-                run_fixed(
-                    &rk,
-                    (Verlet::pack(&y0), 0.0),
-                    settings,
-                    |y| sch.decode_packed(&y.0),
-                    4,
-                )
+                collect(|sink| {
+                    run_fixed(
+                        &rk,
+                        (Verlet::pack(&y0), 0.0),
+                        settings,
+                        |y| sch.decode_packed(&y.0),
+                        4,
+                        sink,
+                    )
+                })
             } else {
-                let sys = QOmega(top);
-                let rk = Rk4Scheme::<_, 7> { sys: &sys };
-                run_fixed(&rk, (pack7(s0), 0.0), settings, |y| unpack7(&y.0), 4)
+                collect(|sink| fixed_into(top, s0, settings, sink))
             }
         }
         _ if reduced => {
@@ -439,18 +456,77 @@ fn run_ode<const N: usize, S: OdeSystem<N>>(
     Ok(out)
 }
 
+/// Simulates a heavy top with any method and no events, handing every state (each
+/// accepted step, or each of `settings.t_eval`) to `sink` instead of keeping them: the
+/// same states as [`simulate`] records, in constant memory.
+pub fn simulate_each(
+    top: &HeavyTop,
+    s0: &RigidState,
+    settings: &Settings,
+    sink: Sink<'_>,
+) -> Result<Stats> {
+    let info = method(&settings.method)?;
+    check(settings, &info)?;
+    if !info.adaptive {
+        return fixed_into(top, s0, settings, sink);
+    }
+    if settings.t_eval.is_some() {
+        let out = simulate(top, s0, settings, &mut [], false, &mut |_| true)?;
+        for (t, s) in out.t.iter().zip(&out.states) {
+            sink(*t, s);
+        }
+        return Ok(out.stats);
+    }
+    struct Each<'s>(Sink<'s>);
+    impl Observer<7> for Each<'_> {
+        fn start(&mut self, t0: f64, y0: &[f64; 7]) {
+            (self.0)(t0, &unpack7(y0));
+        }
+        fn step(&mut self, t: f64, y: &[f64; 7], _: &dyn Dense<7>) -> ControlFlow<()> {
+            (self.0)(t, &unpack7(y));
+            ControlFlow::Continue(())
+        }
+    }
+    let integrator = dop853(settings);
+    let mut obs = Each(sink);
+    let (_, _, st) = integrator
+        .integrate(&QOmega(top), 0.0, pack7(s0), settings.t_end, &mut obs)
+        .map_err(integrate_error)?;
+    Ok(Stats {
+        steps: st.steps,
+        rejected: st.rejected,
+        rhs_evals: st.rhs_evals,
+    })
+}
+
 /// Simulates a heavy top with a fixed-step method.
 pub fn simulate_fixed(top: &HeavyTop, s0: &RigidState, settings: &Settings) -> Result<Output> {
+    collect(|sink| fixed_into(top, s0, settings, sink))
+}
+
+/// A fixed-step run (rk4 on (q, omega) and the structure-preserving methods) handing its
+/// states to `sink`.
+fn fixed_into(
+    top: &HeavyTop,
+    s0: &RigidState,
+    settings: &Settings,
+    sink: Sink<'_>,
+) -> Result<Stats> {
     let info = method(&settings.method)?;
     check(settings, &info)?;
     match info.name {
+        "rk4" => {
+            let sys = QOmega(top);
+            let rk = Rk4Scheme::<_, 7> { sys: &sys };
+            run_fixed(&rk, (pack7(s0), 0.0), settings, |y| unpack7(&y.0), 4, sink)
+        }
         "splitting" | "splitting4" | "splitting6" => {
             let sch = Splitting::new(top, info.order)?;
-            run_fixed(&sch, sch.encode(s0), settings, |y| sch.decode(y), 0)
+            run_fixed(&sch, sch.encode(s0), settings, |y| sch.decode(y), 0, sink)
         }
         "verlet" => {
             let (sch, y0) = Verlet::new(top, s0)?;
-            run_fixed(&sch, y0, settings, |y| sch.decode(y), 0)
+            run_fixed(&sch, y0, settings, |y| sch.decode(y), 0, sink)
         }
         "midpoint" | "gauss4" => {
             let sys = QM(top);
@@ -462,9 +538,16 @@ pub fn simulate_fixed(top: &HeavyTop, s0: &RigidState, settings: &Settings) -> R
                 omega: top.omega([y.0[4], y.0[5], y.0[6]]),
             };
             if info.name == "midpoint" {
-                run_fixed(&Midpoint::<_, 7> { sys: &sys }, y0, settings, decode, 0)
+                run_fixed(
+                    &Midpoint::<_, 7> { sys: &sys },
+                    y0,
+                    settings,
+                    decode,
+                    0,
+                    sink,
+                )
             } else {
-                run_fixed(&Gauss4::<_, 7> { sys: &sys }, y0, settings, decode, 0)
+                run_fixed(&Gauss4::<_, 7> { sys: &sys }, y0, settings, decode, 0, sink)
             }
         }
         other => Err(KreiselError::invalid(

@@ -28,6 +28,13 @@ def test_heavy_batch_matches_single_simulations():
             rel=1e-12,
             abs=1e-300,
         )
+        # energy drift relative to the energy scale T0 + m g l (kinetic energy + the
+        # potential's amplitude), from the trajectory's own energy column
+        inertia = np.array([LAG["I1"], LAG["I1"], LAG["I3"]])
+        scale = 0.5 * inertia @ tr.omega[0] ** 2 + LAG["m"] * 9.81 * LAG["l"]
+        assert res.energy_drift[i] == pytest.approx(
+            np.abs(tr.energy - tr.energy[0]).max() / scale, rel=1e-12
+        )
         assert res.steps[i] == len(tr.t) - 1
         assert np.isnan(res.kovalevskaya_drift[i])
     assert res.errors == (None,) * 5
@@ -40,6 +47,11 @@ def test_heavy_batch_fixed_step_and_kovalevskaya():
     # order-4 splitting at dt = 1e-3: energy and K errors of order dt^4, Mz to round-off
     assert np.all(res.Mz_drift < 1e-12)
     assert np.all(res.energy_drift < 1e-8) and np.all(res.kovalevskaya_drift < 1e-7)
+    # and they are the largest relative changes of the trajectory's own columns
+    tr = kreisel.simulate(kov, st, 10.0, method="splitting4", dt=1e-3)
+    k = tr.kovalevskaya
+    assert res.kovalevskaya_drift[0] == pytest.approx(np.abs(k - k[0]).max() / abs(k[0]), rel=1e-12)
+    assert res.kovalevskaya_drift[0] > 0 and res.energy_drift[0] > 0
     assert np.all(np.isnan(res.M3_drift))
     assert list(res.steps) == [10000, 10000]
 

@@ -205,7 +205,8 @@ def _t_end(t_end):
     return t_end
 
 
-def _heavy_many(models, states, t_end, method, rtol, atol, dt, threads, progress):
+def _heavy_runs(models, states):
+    """(native tops, (q, omega) states) of a batch of heavy tops, broadcast and checked."""
     ms, ss = _broadcast(
         models, states, _Rigid, lambda s: not isinstance(s, (list, tuple, np.ndarray))
     )
@@ -216,13 +217,18 @@ def _heavy_many(models, states, t_end, method, rtol, atol, dt, threads, progress
                 "(one kind per batch)"
             )
     rs = [rigid_state(s) for s in ss]
+    return [m._heavy_native() for m in ms], [(list(r.quaternion), list(r.omega)) for r in rs]
+
+
+def _heavy_many(models, states, t_end, method, rtol, atol, dt, threads, progress):
+    natives, packed = _heavy_runs(models, states)
     if not isinstance(method, str):
         raise ParameterError(f"method = {method!r} is not allowed: give a method name")
     out = _in_pieces(
         _core.heavy_many,
         progress,
-        [m._heavy_native() for m in ms],
-        [(list(r.quaternion), list(r.omega)) for r in rs],
+        natives,
+        packed,
         _t_end(t_end),
         method,
         real("rtol", rtol),
@@ -237,13 +243,8 @@ def _heavy_many(models, states, t_end, method, rtol, atol, dt, threads, progress
 
 def _lyapunov_many(models, states, t_end, *, tau, d0, direction, rtol, atol, threads=None):
     """Largest Lyapunov exponents of heavy tops in parallel: (exponents, errors)."""
-    ms, ss = _broadcast(
-        models, states, _Rigid, lambda s: not isinstance(s, (list, tuple, np.ndarray))
-    )
-    rs = [rigid_state(s) for s in ss]
     out = _core.lyapunov_many(
-        [m._heavy_native() for m in ms],
-        [(list(r.quaternion), list(r.omega)) for r in rs],
+        *_heavy_runs(models, states),
         _t_end(t_end),
         real("tau", tau),
         real("d0", d0),

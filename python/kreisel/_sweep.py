@@ -420,10 +420,9 @@ def _compose(kind: str, top: dict, state: dict, values: dict) -> tuple:
 
 
 def _first(grid: dict, random: dict, name: str) -> float:
-    if name in grid:
-        return float(grid[name][0])
-    v = random[name]
-    return float(v[0]) if isinstance(v, tuple) else float(v[0])
+    """A value of a swept parameter to stand in for it: its first grid value, else the
+    first sample (or the low end of the range)."""
+    return float((grid[name] if name in grid else random[name])[0])
 
 
 def _number(where: str, name: str, value) -> float:
@@ -615,17 +614,16 @@ def compute_chunk(spec: dict, values: dict, threads=None) -> dict:
         else:
             res = simulate_many(models, states, t_end, **kw) if kept_here else None
         idx = np.array(where)
+        # a run fails if any of its computations does (the first message is kept)
+        messages = [res.errors] if res is not None else []
         if "lyapunov" in kept:
             lam, lam_errors = _lyapunov_many(
                 models, states, t_end, tau=spec["lyapunov_tau"], d0=LYAPUNOV_D0,
                 direction=LYAPUNOV_DIRECTION, rtol=kw["rtol"], atol=kw["atol"], threads=threads,
             )  # fmt: skip
             out["lyapunov"][idx] = lam
-            res_errors = lam_errors if res is None else res.errors
-            if res is not None:
-                res_errors = tuple(a or b for a, b in zip(res.errors, lam_errors))
-        else:
-            res_errors = res.errors
+            messages.append(lam_errors)
+        res_errors = [next((m for m in ms if m), None) for ms in zip(*messages)]
         for name in kept_here:
             col = getattr(res, name)
             if name in CATEGORIES:
@@ -667,9 +665,9 @@ def _play_packed(model, state: dict):
             q, w, float(state.get("vx", 0.0)), float(state.get("vy", 0.0)),
             None if h is None else float(h),
         )  # fmt: skip
+    except ParameterError:
+        raise
     except (TypeError, ValueError) as err:
-        if isinstance(err, ParameterError):
-            raise
         raise ParameterError(str(err)) from None
 
 

@@ -18,6 +18,43 @@ def best_of(fn, repeats):
     return best, out
 
 
+def paired(fast, slow, rounds):
+    """Interleaved timing of a fast and a slow implementation on a noisy machine.
+
+    Shared machines change speed from one second to the next (other tenants, clock
+    changes), by more than the differences worth measuring. So the two are timed side by
+    side: each round makes one call of ``slow`` and, right after it, calls ``fast`` for about
+    as long (at least 5 calls), and compares the slow call with the median fast call of the
+    same round. Returns a dict: ``ratio`` (median over the rounds of slow / fast), ``slow_s``
+    and ``fast_s`` (the best time of each over all rounds), ``best_ratio`` (their ratio),
+    ``round_ratios``, and the last results ``fast_out`` and ``slow_out``.
+    """
+    ratios, best_fast, best_slow = [], math.inf, math.inf
+    fast_out = slow_out = None
+    for _ in range(rounds):
+        start = time.perf_counter()
+        slow_out = slow()
+        t_slow = time.perf_counter() - start
+        times, spent = [], 0.0
+        while len(times) < 5 or spent < t_slow:
+            start = time.perf_counter()
+            fast_out = fast()
+            times.append(time.perf_counter() - start)
+            spent += times[-1]
+        t_fast = float(np.median(times))
+        ratios.append(t_slow / t_fast)
+        best_fast, best_slow = min(best_fast, min(times)), min(best_slow, t_slow)
+    return {
+        "ratio": float(np.median(ratios)),
+        "round_ratios": ratios,
+        "fast_s": best_fast,
+        "slow_s": best_slow,
+        "best_ratio": best_slow / best_fast,
+        "fast_out": fast_out,
+        "slow_out": slow_out,
+    }
+
+
 def quat_to_matrix(q):
     """Rotation matrices (..., 3, 3) of quaternions (..., 4), scalar first."""
     q = np.asarray(q, dtype=float)

@@ -1,17 +1,20 @@
 """Benchmark T1: a tippe top with viscous friction, kreisel.simulate against scipy's DOP853.
 
-    python benchmarks/bench_play.py [--repeats R] [--t-end T]
+    python benchmarks/bench_play.py [--rounds R] [--t-end T]
 
 The tippe top of BENCHMARKS.md case T1 (m = 0.02 kg, rho = 0.02 m, s = 0.006 m, C = 0.4 m
 rho^2, A = 0.8 C, viscous friction: tangential force -mu N v_T with mu = 1 s/m), started at
 theta = pi - 0.1 with psi_dot = 150 rad/s and everything else zero, is integrated for 12 s
 with rtol = 1e-9, atol = 1e-12 by kreisel.simulate (DOP853, every accepted step returned)
 and by scipy.integrate.solve_ivp(method="DOP853") on the same Newton-Euler equations
-(right-hand side below, plain Python floats). Both are timed in the same run, best of R, with
-time.perf_counter. Reported: the times and their ratio, the inversion time of both (the first
-accepted step with u = cos(theta) > 0, and the crossing interpolated linearly between the two
-steps around it), and the largest relative drift of Jellett's integral J = L.(s e3 + rho ez),
-which the sliding friction must keep. Result: benchmarks/results-play.json.
+(right-hand side below, plain Python floats). They are timed side by side in R rounds
+(default 7): one scipy run, then kreisel runs for as long; the ratio is the median over the
+rounds of scipy's time over kreisel's median time in that round (_common.paired), which
+keeps the machine's changes of speed out of it. Reported: the best times and the ratio,
+the inversion time of both (the first accepted step with u = cos(theta) > 0, and the
+crossing interpolated linearly between the two steps around it), and the largest relative
+drift of Jellett's integral J = L.(s e3 + rho ez), which the sliding friction must keep.
+Result: benchmarks/results-play.json.
 
 The peer's equations (PHYSICS.md section 3): G's horizontal position and velocity, the unit
 quaternion q (body -> space) and the body angular velocity omega are integrated; G's height
@@ -32,7 +35,7 @@ import pathlib
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 import numpy as np
-from _common import best_of, drift
+from _common import drift, paired
 from scipy.integrate import solve_ivp
 
 import kreisel
@@ -148,11 +151,11 @@ def inversion(t, u):
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--repeats", type=int, default=3, help="best of this many (default 3)")
+    parser.add_argument("--rounds", type=int, default=7, help="timing rounds (default 7)")
     parser.add_argument("--t-end", type=float, default=T_END, help="seconds (default 12)")
     args = parser.parse_args(argv)
-    if args.repeats < 1 or not args.t_end > 0:
-        parser.error("--repeats and --t-end must be positive")
+    if args.rounds < 1 or not args.t_end > 0:
+        parser.error("--rounds and --t-end must be positive")
     t_end = args.t_end
 
     top = kreisel.PlayTop(m=M, A=A, C=C, s=S, rho=RHO, g=G, friction=kreisel.Viscous(mu=MU))
@@ -169,10 +172,10 @@ def main(argv=None):
     kreisel.simulate(top, state, 0.1, rtol=RTOL, atol=ATOL)
     solve_ivp(rhs, (0.0, 0.01), y0, method="DOP853", rtol=RTOL, atol=ATOL)
 
-    kreisel_s, traj = best_of(run_kreisel, args.repeats)
-    peer_s, sol = best_of(run_scipy, args.repeats)
+    timing = paired(run_kreisel, run_scipy, args.rounds)
+    traj, sol = timing["fast_out"], timing["slow_out"]
     assert sol.success, sol.message
-    ratio = kreisel_s / peer_s
+    kreisel_s, peer_s, speedup = timing["fast_s"], timing["slow_s"], timing["ratio"]
 
     # the peer's start must be kreisel's start
     np.testing.assert_allclose(state.quaternion, y0[4:8], atol=1e-15)
@@ -188,9 +191,9 @@ def main(argv=None):
     print(
         f"case {CASE}: PlayTop(m={M}, A={A:.4g}, C={C:.4g}, s={S}, rho={RHO}, Viscous(mu={MU})),"
         f" theta = pi - 0.1, psi_dot = {PSI_DOT0}, t = [0, {t_end:g}] s, rtol {RTOL:g},"
-        f" atol {ATOL:g}, best of {args.repeats}"
+        f" atol {ATOL:g}, {args.rounds} timing rounds"
     )
-    head = f"{'implementation':<26} {'seconds':>9} {'steps':>6} {'f evals':>8}"
+    head = f"{'implementation':<26} {'best s':>9} {'steps':>6} {'f evals':>8}"
     print(f"{head} {'u>0 step (s)':>12} {'u=0 (s)':>9} {'J drift':>10} {'final u':>10}")
     print(
         f"{'kreisel.simulate dop853':<26} {kreisel_s:>9.4f} {k_steps:>6d} {k_evals:>8d} "
@@ -200,17 +203,23 @@ def main(argv=None):
         f"{'scipy solve_ivp DOP853':<26} {peer_s:>9.4f} {p_steps:>6d} {p_evals:>8d} "
         f"{p_inv_step:>12.5f} {p_inv:>9.5f} {p_drift:>10.2e} {u_p[-1]:>10.7f}"
     )
-    print(f"ratio kreisel / scipy = {ratio:.4g}  (kreisel {1 / ratio:.0f}x faster)")
+    print(
+        f"kreisel is {speedup:.0f}x faster than scipy (median of the rounds' ratios; "
+        f"rounds {min(timing['round_ratios']):.0f}-{max(timing['round_ratios']):.0f}x, "
+        f"best times {timing['best_ratio']:.0f}x)"
+    )
 
     result = {
         "case": CASE,
         "t_end": t_end,
         "rtol": RTOL,
         "atol": ATOL,
-        "repeats": args.repeats,
-        "kreisel_s": kreisel_s,
-        "peer_s": peer_s,
-        "ratio": ratio,
+        "rounds": args.rounds,
+        "kreisel_best_s": kreisel_s,
+        "peer_best_s": peer_s,
+        "speedup": speedup,
+        "speedup_rounds": timing["round_ratios"],
+        "speedup_best_times": timing["best_ratio"],
         "kreisel_steps": k_steps,
         "kreisel_rhs_evals": k_evals,
         "peer_steps": p_steps,

@@ -1,13 +1,16 @@
 """Benchmark L1: kreisel.simulate (DOP853) against scipy's solve_ivp DOP853 on the same top.
 
-    python benchmarks/bench_simulate.py [--repeats R] [--t-end T]
+    python benchmarks/bench_simulate.py [--rounds R] [--t-end T]
 
 The Lagrange top I1 = 1, I3 = 0.5, m = 1, l = 1, g = 1 (SI) from theta = 1, theta_dot = 0.3,
 phi_dot = 0.7, psi_dot = 9 is integrated for 100 s with rtol = 1e-10, atol = 1e-12 by
 kreisel.simulate(method="dop853") and by scipy.integrate.solve_ivp(method="DOP853") on the
 same equations (unit quaternion + body angular velocity, right-hand side in plain Python /
-numpy below). Both return every accepted step, both are timed in the same run, best of R
-repeats, with time.perf_counter. The final states are compared with the exact solution
+numpy below). Both return every accepted step. They are timed side by side in R rounds
+(default 9): one scipy run, then kreisel runs for as long; the ratio is the median over the
+rounds of scipy's time over kreisel's median time in that round (_common.paired), which
+keeps the machine's changes of speed out of it. The best time of each is reported too.
+The final states are compared with the exact solution
 (kreisel.LagrangeTop.exact). The result is written to benchmarks/results-simulate.json.
 """
 
@@ -23,7 +26,7 @@ import pathlib
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 import numpy as np
-from _common import best_of, quat_to_matrix
+from _common import paired, quat_to_matrix
 from scipy.integrate import solve_ivp
 
 import kreisel
@@ -102,11 +105,11 @@ def exact_final(top, state, t_end):
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--repeats", type=int, default=3, help="best of this many (default 3)")
+    parser.add_argument("--rounds", type=int, default=9, help="timing rounds (default 9)")
     parser.add_argument("--t-end", type=float, default=T_END, help="seconds (default 100)")
     args = parser.parse_args(argv)
-    if args.repeats < 1 or not args.t_end > 0:
-        parser.error("--repeats and --t-end must be positive")
+    if args.rounds < 1 or not args.t_end > 0:
+        parser.error("--rounds and --t-end must be positive")
     t_end = args.t_end
 
     top = kreisel.LagrangeTop(**PARAMS)
@@ -125,10 +128,10 @@ def main(argv=None):
     kreisel.simulate(top, state, 1.0, method="dop853", rtol=RTOL, atol=ATOL)
     solve_ivp(rhs, (0.0, 1.0), y0, method="DOP853", rtol=RTOL, atol=ATOL)
 
-    kreisel_s, traj = best_of(run_kreisel, args.repeats)
-    peer_s, sol = best_of(run_scipy, args.repeats)
+    timing = paired(run_kreisel, run_scipy, args.rounds)
+    traj, sol = timing["fast_out"], timing["slow_out"]
     assert sol.success, sol.message
-    ratio = kreisel_s / peer_s
+    kreisel_s, peer_s, speedup = timing["fast_s"], timing["slow_s"], timing["ratio"]
 
     r_exact, w_exact = exact_final(top, state, t_end)
     k_rot = float(np.abs(quat_to_matrix(traj.quaternion[-1]) - r_exact).max())
@@ -139,9 +142,9 @@ def main(argv=None):
 
     print(
         f"case {CASE}: LagrangeTop({PARAMS}), {STATE}, t = [0, {t_end:g}] s, "
-        f"rtol {RTOL:g}, atol {ATOL:g}, best of {args.repeats}"
+        f"rtol {RTOL:g}, atol {ATOL:g}, {args.rounds} timing rounds"
     )
-    head = f"{'implementation':<30} {'seconds':>9} {'steps':>7} {'rejected':>8} {'f evals':>8}"
+    head = f"{'implementation':<30} {'best s':>9} {'steps':>7} {'rejected':>8} {'f evals':>8}"
     print(f"{head} {'|R - R_exact|':>14} {'|w - w_exact|':>14}")
     rejected, evals = traj.stats["rejected"], traj.stats["rhs_evals"]
     print(
@@ -152,17 +155,23 @@ def main(argv=None):
         f"{'scipy solve_ivp DOP853':<30} {peer_s:>9.4f} {s_steps:>7d} {'-':>8} "
         f"{sol.nfev:>8d} {s_rot:>14.3e} {s_omega:>14.3e}"
     )
-    print(f"ratio kreisel / scipy = {ratio:.4f}  (kreisel {1 / ratio:.0f}x faster)")
+    print(
+        f"kreisel is {speedup:.0f}x faster than scipy (median of the rounds' ratios; "
+        f"rounds {min(timing['round_ratios']):.0f}-{max(timing['round_ratios']):.0f}x, "
+        f"best times {timing['best_ratio']:.0f}x)"
+    )
 
     result = {
         "case": CASE,
         "t_end": t_end,
         "rtol": RTOL,
         "atol": ATOL,
-        "repeats": args.repeats,
-        "kreisel_s": kreisel_s,
-        "peer_s": peer_s,
-        "ratio": ratio,
+        "rounds": args.rounds,
+        "kreisel_best_s": kreisel_s,
+        "peer_best_s": peer_s,
+        "speedup": speedup,
+        "speedup_rounds": timing["round_ratios"],
+        "speedup_best_times": timing["best_ratio"],
         "kreisel_steps": k_steps,
         "kreisel_rejected": int(traj.stats["rejected"]),
         "kreisel_rhs_evals": int(traj.stats["rhs_evals"]),

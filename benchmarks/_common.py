@@ -55,6 +55,24 @@ def paired(fast, slow, rounds):
     }
 
 
+def paired_summary(timing, rounds, peer):
+    """The printed line and the result fields of a :func:`paired` timing (kreisel fast)."""
+    r = timing["round_ratios"]
+    line = (
+        f"kreisel is {timing['ratio']:.0f}x faster than {peer} (median of the rounds' ratios; "
+        f"rounds {min(r):.0f}-{max(r):.0f}x, best times {timing['best_ratio']:.0f}x)"
+    )
+    fields = {
+        "rounds": rounds,
+        "kreisel_best_s": timing["fast_s"],
+        "peer_best_s": timing["slow_s"],
+        "speedup": timing["ratio"],
+        "speedup_rounds": r,
+        "speedup_best_times": timing["best_ratio"],
+    }
+    return line, fields
+
+
 def quat_to_matrix(q):
     """Rotation matrices (..., 3, 3) of quaternions (..., 4), scalar first."""
     q = np.asarray(q, dtype=float)

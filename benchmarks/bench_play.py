@@ -35,7 +35,7 @@ import pathlib
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 import numpy as np
-from _common import drift, paired
+from _common import drift, paired, paired_summary
 from scipy.integrate import solve_ivp
 
 import kreisel
@@ -175,7 +175,7 @@ def main(argv=None):
     timing = paired(run_kreisel, run_scipy, args.rounds)
     traj, sol = timing["fast_out"], timing["slow_out"]
     assert sol.success, sol.message
-    kreisel_s, peer_s, speedup = timing["fast_s"], timing["slow_s"], timing["ratio"]
+    kreisel_s, peer_s = timing["fast_s"], timing["slow_s"]
 
     # the peer's start must be kreisel's start
     np.testing.assert_allclose(state.quaternion, y0[4:8], atol=1e-15)
@@ -203,23 +203,15 @@ def main(argv=None):
         f"{'scipy solve_ivp DOP853':<26} {peer_s:>9.4f} {p_steps:>6d} {p_evals:>8d} "
         f"{p_inv_step:>12.5f} {p_inv:>9.5f} {p_drift:>10.2e} {u_p[-1]:>10.7f}"
     )
-    print(
-        f"kreisel is {speedup:.0f}x faster than scipy (median of the rounds' ratios; "
-        f"rounds {min(timing['round_ratios']):.0f}-{max(timing['round_ratios']):.0f}x, "
-        f"best times {timing['best_ratio']:.0f}x)"
-    )
+    line, fields = paired_summary(timing, args.rounds, "scipy")
+    print(line)
 
     result = {
         "case": CASE,
         "t_end": t_end,
         "rtol": RTOL,
         "atol": ATOL,
-        "rounds": args.rounds,
-        "kreisel_best_s": kreisel_s,
-        "peer_best_s": peer_s,
-        "speedup": speedup,
-        "speedup_rounds": timing["round_ratios"],
-        "speedup_best_times": timing["best_ratio"],
+        **fields,
         "kreisel_steps": k_steps,
         "kreisel_rhs_evals": k_evals,
         "peer_steps": p_steps,

@@ -26,7 +26,7 @@ import pathlib
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 import numpy as np
-from _common import paired, quat_to_matrix
+from _common import paired, paired_summary, quat_to_matrix
 from scipy.integrate import solve_ivp
 
 import kreisel
@@ -131,7 +131,7 @@ def main(argv=None):
     timing = paired(run_kreisel, run_scipy, args.rounds)
     traj, sol = timing["fast_out"], timing["slow_out"]
     assert sol.success, sol.message
-    kreisel_s, peer_s, speedup = timing["fast_s"], timing["slow_s"], timing["ratio"]
+    kreisel_s, peer_s = timing["fast_s"], timing["slow_s"]
 
     r_exact, w_exact = exact_final(top, state, t_end)
     k_rot = float(np.abs(quat_to_matrix(traj.quaternion[-1]) - r_exact).max())
@@ -155,23 +155,15 @@ def main(argv=None):
         f"{'scipy solve_ivp DOP853':<30} {peer_s:>9.4f} {s_steps:>7d} {'-':>8} "
         f"{sol.nfev:>8d} {s_rot:>14.3e} {s_omega:>14.3e}"
     )
-    print(
-        f"kreisel is {speedup:.0f}x faster than scipy (median of the rounds' ratios; "
-        f"rounds {min(timing['round_ratios']):.0f}-{max(timing['round_ratios']):.0f}x, "
-        f"best times {timing['best_ratio']:.0f}x)"
-    )
+    line, fields = paired_summary(timing, args.rounds, "scipy")
+    print(line)
 
     result = {
         "case": CASE,
         "t_end": t_end,
         "rtol": RTOL,
         "atol": ATOL,
-        "rounds": args.rounds,
-        "kreisel_best_s": kreisel_s,
-        "peer_best_s": peer_s,
-        "speedup": speedup,
-        "speedup_rounds": timing["round_ratios"],
-        "speedup_best_times": timing["best_ratio"],
+        **fields,
         "kreisel_steps": k_steps,
         "kreisel_rejected": int(traj.stats["rejected"]),
         "kreisel_rhs_evals": int(traj.stats["rhs_evals"]),

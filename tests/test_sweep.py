@@ -275,7 +275,7 @@ class Cluster:
         self.log = open(tmp / "cluster.log", "w")  # noqa: SIM115
         file = tmp / "scheduler.json"
         self.scheduler = _spawn(
-            ["distributed.cli.dask_scheduler", "--host", "127.0.0.1", "--port", "0",
+            ["kreisel", "scheduler", "--host", "127.0.0.1", "--port", "0",
              "--dashboard-address", "127.0.0.1:0", "--scheduler-file", str(file)],
             self.log,
         )  # fmt: skip
@@ -299,7 +299,8 @@ class Cluster:
         self.workers = [
             _spawn(
                 [
-                    "distributed.cli.dask_worker",
+                    "kreisel",
+                    "worker",
                     self.address,
                     "--nthreads",
                     "1",
@@ -349,6 +350,38 @@ def test_dask_cluster_equals_local_bit_for_bit(tmp_path, cluster):
     with Client(cluster.address, set_as_default=False) as client:
         again = kreisel.sweep(tables, None, client, progress=False)
     assert_same(local, again)
+
+
+def test_kreisel_worker_and_scheduler_run_dask_with_kreisels_settings(cluster):
+    """The cluster fixture starts `kreisel scheduler` and `kreisel worker`: they are Dask's
+    processes, with the profiler off and slow ticks (read back from each process)."""
+    from distributed import Client
+
+    def settings():
+        import dask
+
+        return (
+            dask.config.get("distributed.worker.profile.enabled"),
+            dask.config.get("distributed.admin.tick.interval"),
+        )
+
+    with Client(cluster.address, set_as_default=False) as client:
+        on_workers = client.run(settings)
+        on_scheduler = client.run_on_scheduler(settings)
+    assert len(on_workers) == 2
+    for got in [*on_workers.values(), on_scheduler]:
+        assert got[0] in (False, "False") and got[1] == "1s", got
+
+
+def test_dask_settings_made_by_the_user_come_first(monkeypatch):
+    from kreisel._sweep import DASK_ENV, dask_command
+
+    monkeypatch.setenv("DASK_DISTRIBUTED__ADMIN__TICK__INTERVAL", "50ms")
+    cmd, env = dask_command("worker", ["tcp://127.0.0.1:1", "--nthreads", "3"])
+    assert cmd[1:] == ["-m", "distributed.cli.dask_worker", "tcp://127.0.0.1:1", "--nthreads", "3"]
+    assert env["DASK_DISTRIBUTED__ADMIN__TICK__INTERVAL"] == "50ms"
+    assert env["DASK_DISTRIBUTED__WORKER__PROFILE__ENABLED"] == "False"
+    assert set(DASK_ENV) <= set(env)
 
 
 def test_the_environment_sends_an_unchanged_script_to_the_cluster(tmp_path, cluster, monkeypatch):

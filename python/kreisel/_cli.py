@@ -393,6 +393,51 @@ def sweep_command(file, store, scheduler, threads, var, overwrite, retry_failed,
         click.echo(f"  figure {png}")
 
 
+def _dask_process(role, args):
+    import os
+
+    from ._sweep import dask_command
+
+    try:
+        import distributed  # noqa: F401
+    except ImportError:  # pragma: no cover
+        raise click.UsageError(
+            "dask.distributed is not installed: pip install 'kreisel[sweep]'"
+        ) from None
+    cmd, env = dask_command(role, args)
+    sys.stdout.flush()
+    os.execve(cmd[0], cmd, env)
+
+
+_PASS_ON = {**_CONTEXT, "ignore_unknown_options": True, "allow_extra_args": True}
+
+
+@cli.command(context_settings=_PASS_ON, add_help_option=False)
+@click.argument("args", nargs=-1, type=click.UNPROCESSED)
+def scheduler(args):
+    """A Dask scheduler for sweeps: `dask scheduler` with settings for kreisel's tasks.
+
+    Every argument goes to `dask scheduler` (see `kreisel scheduler --help`). Settings made in
+    the environment (DASK_*) or a Dask configuration file come first.
+    """
+    _dask_process("scheduler", args)
+
+
+@cli.command(context_settings=_PASS_ON, add_help_option=False)
+@click.argument("args", nargs=-1, type=click.UNPROCESSED)
+def worker(args):
+    """A Dask worker for sweeps: `dask worker ADDRESS` with settings for kreisel's tasks.
+
+    \b
+    Every argument goes to `dask worker` (see `kreisel worker --help`), e.g.
+        kreisel worker tcp://host:8786 --nthreads 8
+    kreisel's tasks are long, CPU-bound and release the GIL: Dask's profiler and its frequent
+    event-loop ticks only take CPU from them, so they are turned down. Settings made in the
+    environment (DASK_*) or a Dask configuration file come first.
+    """
+    _dask_process("worker", args)
+
+
 _EULER = ("theta", "phi", "psi", "theta_dot", "phi_dot", "psi_dot")
 
 

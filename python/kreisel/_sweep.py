@@ -847,6 +847,31 @@ def open_sweep(store):
 
 SCHEDULER_ENV = "KREISEL_SCHEDULER"
 
+# Dask settings for the processes of a cluster that runs kreisel's tasks (long, CPU-bound,
+# the GIL released): no statistical profiler (it samples every worker thread each 10 ms),
+# event-loop ticks each second instead of every 20 ms, system metrics every 2 s. Measured
+# on 2 cores: an idle scheduler and two workers take 0.18 s of CPU in 10 s instead of 0.97 s.
+# `kreisel scheduler` and `kreisel worker` start Dask's processes with them; settings made
+# in the environment or a Dask configuration file come first.
+DASK_ENV = {
+    "DASK_DISTRIBUTED__WORKER__PROFILE__ENABLED": "False",
+    "DASK_DISTRIBUTED__ADMIN__TICK__INTERVAL": "1s",
+    "DASK_DISTRIBUTED__ADMIN__SYSTEM_MONITOR__INTERVAL": "2s",
+}
+
+
+def dask_command(role: str, args) -> tuple[list, dict]:
+    """The command line and environment of a Dask process (``role``: "scheduler" or
+    "worker") tuned for kreisel (:data:`DASK_ENV`); ``args`` go to Dask's command as they
+    are."""
+    import sys
+
+    module = f"distributed.cli.dask_{role}"
+    env = dict(os.environ)
+    for k, v in DASK_ENV.items():
+        env.setdefault(k, v)
+    return [sys.executable, "-m", module, *args], env
+
 
 def _client(scheduler, timeout):
     if scheduler is None:

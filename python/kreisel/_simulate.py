@@ -10,6 +10,7 @@ import numpy as np
 from . import _core
 from ._errors import ParameterError
 from ._heavy import RigidState, _Rigid, rigid_state
+from ._play import PlayTop, simulate_play
 from ._trajectory import Deferred, Trajectory
 from ._validate import real, times
 
@@ -136,8 +137,6 @@ def simulate(
         ``phi``, ``psi`` (unwrapped), ``energy``, ``Mz`` and, where they are integrals,
         ``M3`` and ``kovalevskaya``; attributes ``events`` (list of EventRecord) and ``stats``.
     """
-    from ._play import PlayTop, simulate_play
-
     if isinstance(model, PlayTop):
         return simulate_play(
             model, state, t_end, method=method, rtol=rtol, atol=atol, t_eval=t_eval, events=events
@@ -178,8 +177,8 @@ def simulate(
             raise ParameterError("reduced = True is not allowed: it needs a LagrangeTop")
     native = model._heavy_native()
     out = native.simulate(
-        list(s.quaternion),
-        list(s.omega),
+        np.asarray(s.quaternion).tolist(),
+        np.asarray(s.omega).tolist(),
         t_end,
         method,
         rtol,

@@ -143,13 +143,18 @@ impl EventKind<'_> {
     }
 }
 
-/// The heavy top as a first-order system in y = (q, omega).
-pub struct QOmega<'a>(pub &'a HeavyTop);
+/// The heavy top as a first-order system in y = (q, omega); `AXIAL` (only for a top that
+/// is [`HeavyTop::axial`]) evaluates the right-hand side without its vanishing terms.
+pub struct QOmega<'a, const AXIAL: bool>(pub &'a HeavyTop);
 
-impl OdeSystem<7> for QOmega<'_> {
+impl<const AXIAL: bool> OdeSystem<7> for QOmega<'_, AXIAL> {
     #[inline(always)]
     fn rhs(&self, _t: f64, y: &[f64; 7], dy: &mut [f64; 7]) {
-        self.0.rhs(y, dy);
+        if AXIAL {
+            self.0.rhs_axial(y, dy);
+        } else {
+            self.0.rhs(y, dy);
+        }
     }
     fn project(&self, y: &mut [f64; 7]) {
         let n = (y[0] * y[0] + y[1] * y[1] + y[2] * y[2] + y[3] * y[3]).sqrt();
@@ -380,10 +385,20 @@ pub fn simulate(
             events,
             keep_going,
         )
+    } else if top.axial() {
+        run_ode(
+            &integrator,
+            &QOmega::<true>(top),
+            pack7(s0),
+            unpack7,
+            settings,
+            events,
+            keep_going,
+        )
     } else {
         run_ode(
             &integrator,
-            &QOmega(top),
+            &QOmega::<false>(top),
             pack7(s0),
             unpack7,
             settings,
@@ -489,9 +504,13 @@ pub fn simulate_each(
     }
     let integrator = dop853(settings);
     let mut obs = Each(sink);
-    let (_, _, st) = integrator
-        .integrate(&QOmega(top), 0.0, pack7(s0), settings.t_end, &mut obs)
-        .map_err(integrate_error)?;
+    let (y0, t_end) = (pack7(s0), settings.t_end);
+    let (_, _, st) = if top.axial() {
+        integrator.integrate(&QOmega::<true>(top), 0.0, y0, t_end, &mut obs)
+    } else {
+        integrator.integrate(&QOmega::<false>(top), 0.0, y0, t_end, &mut obs)
+    }
+    .map_err(integrate_error)?;
     Ok(Stats {
         steps: st.steps,
         rejected: st.rejected,
@@ -516,7 +535,7 @@ fn fixed_into(
     check(settings, &info)?;
     match info.name {
         "rk4" => {
-            let sys = QOmega(top);
+            let sys = QOmega::<false>(top);
             let rk = Rk4Scheme::<_, 7> { sys: &sys };
             run_fixed(&rk, (pack7(s0), 0.0), settings, |y| unpack7(&y.0), 4, sink)
         }
@@ -621,9 +640,15 @@ pub fn columns(top: &HeavyTop, states: &[RigidState]) -> Columns {
 }
 
 /// The representative of `angle` (mod 2 pi) nearest to `last`.
+#[inline]
 fn unwrap(last: f64, angle: f64) -> f64 {
     let tau = std::f64::consts::TAU;
-    angle + tau * ((last - angle) / tau).round()
+    let turns = (last - angle) / tau;
+    // Mostly no turn: skip the rounding call (`angle + tau * 0.0` is `angle + 0.0`).
+    if turns.abs() < 0.5 {
+        return angle + 0.0;
+    }
+    angle + tau * turns.round()
 }
 
 #[doc(hidden)]

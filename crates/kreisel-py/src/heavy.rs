@@ -167,8 +167,11 @@ impl PyHeavyTop {
         let out = result.py(py)?;
         let n = out.t.len();
         let d = PyDict::new(py);
-        let quat: Vec<f64> = out.states.iter().flat_map(|s| s.q.0).collect();
-        let om: Vec<f64> = out.states.iter().flat_map(|s| s.omega).collect();
+        let (mut quat, mut om) = (Vec::with_capacity(4 * n), Vec::with_capacity(3 * n));
+        for s in &out.states {
+            quat.extend_from_slice(&s.q.0);
+            om.extend_from_slice(&s.omega);
+        }
         d.set_item("t", out.t.into_pyarray(py))?;
         d.set_item("quaternion", quat.into_pyarray(py).reshape([n, 4])?)?;
         d.set_item("omega", om.into_pyarray(py).reshape([n, 3])?)?;

@@ -348,6 +348,19 @@ fn dop853_local_orders_circular() {
 // ---------------------------------------------------------------- adaptive accuracy
 
 #[test]
+fn dop853_versions_agree_bit_for_bit() {
+    // `integrate` may run a version compiled for a wider instruction set: the same
+    // operations in the same order, so the same steps and values as the portable one.
+    let (e, t_end) = (0.7, 6.0 * PI);
+    let dop = Dop853::new(1e-11, 1e-12);
+    let (mut a, mut b) = (EveryStep::new(), EveryStep::new());
+    let ra = dop.integrate(&Kepler, 0.0, kepler_exact(e, 0.0), t_end, &mut a);
+    let rb = dop.integrate_with(&Kepler, 0.0, kepler_exact(e, 0.0), t_end, &mut b);
+    assert_eq!(ra.unwrap(), rb.unwrap());
+    assert_eq!((a.ts, a.ys), (b.ts, b.ys));
+}
+
+#[test]
 fn dop853_adaptive_kepler_ten_periods() {
     let e = 0.5;
     let t_end = 20.0 * PI;

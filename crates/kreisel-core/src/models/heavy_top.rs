@@ -271,6 +271,30 @@ impl HeavyTop {
         dy[5] = e[1] * w[2] * w[0] + torque[1] * inv[1];
         dy[6] = e[2] * w[0] * w[1] + torque[2] * inv[2];
     }
+
+    /// Whether `I1 == I2` and the centre of mass lies on the 3-axis (a Lagrange top, or a
+    /// symmetric free one): then [`HeavyTop::rhs_axial`] gives the right-hand side.
+    pub fn axial(&self) -> bool {
+        self.inertia[0] == self.inertia[1] && self.mgc[0] == 0.0 && self.mgc[1] == 0.0
+    }
+
+    /// [`HeavyTop::rhs`] of an [`axial`](HeavyTop::axial) top, without the terms that vanish
+    /// there: with `c = (0, 0, c3)` the torque is `m g c3 (Gamma_2, -Gamma_1, 0)`, and with
+    /// `I1 == I2` `omega3` is constant. The remaining operations are those of `rhs`, in the
+    /// same order, so both give the same values (up to the sign of a zero).
+    #[inline(always)]
+    pub fn rhs_axial(&self, y: &[f64; 7], dy: &mut [f64; 7]) {
+        let [w, x, yq, z] = [y[0], y[1], y[2], y[3]];
+        let om = [y[4], y[5], y[6]];
+        dy[..4].copy_from_slice(&Quat([w, x, yq, z]).half_times_pure(om));
+        // Gamma_1 and Gamma_2 as in `Quat::up_in_body`.
+        let g0 = 2.0 * (x * z - w * yq);
+        let g1 = 2.0 * (yq * z + w * x);
+        let (e, inv, c3) = (self.euler, self.inv_inertia, self.mgc[2]);
+        dy[4] = e[0] * om[1] * om[2] + g1 * c3 * inv[0];
+        dy[5] = e[1] * om[2] * om[0] - g0 * c3 * inv[1];
+        dy[6] = 0.0;
+    }
 }
 
 #[cfg(test)]
@@ -284,6 +308,20 @@ mod tests {
         assert_eq!(k(2.0, 2.0, 1.0, [0.3, 0.0, 0.0]), TopKind::Kovalevskaya);
         assert_eq!(k(2.0, 3.0, 1.5, [0.0, 0.0, 0.0]), TopKind::Euler);
         assert_eq!(k(2.0, 3.0, 1.5, [0.1, 0.0, 0.2]), TopKind::General);
+    }
+
+    #[test]
+    fn axial_right_hand_side_is_the_general_one() {
+        let top = HeavyTop::new(1.3, 1.3, 0.6, 0.8, [0.0, 0.0, 0.4], 9.81).unwrap();
+        assert!(top.axial());
+        assert!(!HeavyTop::new(1.3, 1.3, 0.6, 0.8, [0.1, 0.0, 0.4], 9.81)
+            .unwrap()
+            .axial());
+        let y = [0.3, -0.5, 0.7, 0.2, 1.7, -0.4, 9.1];
+        let (mut a, mut b) = ([0.0; 7], [0.0; 7]);
+        top.rhs(&y, &mut a);
+        top.rhs_axial(&y, &mut b);
+        assert_eq!(a, b);
     }
 
     #[test]

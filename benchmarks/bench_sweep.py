@@ -14,13 +14,15 @@ one run, with time.perf_counter:
   cluster is deployed; a LocalCluster would keep the scheduler inside this process, where
   it shares the GIL with the store writes), started and warmed up with one small sweep
   before the clock starts, so the overhead measured is that of the scheduling, the
-  transfers and the writes.
+  transfers and the writes. The cluster is started twice: as `kreisel scheduler` and
+  `kreisel worker` start it (Dask's profiler off, slow event-loop ticks), and with Dask's
+  default settings (`dask scheduler`, `dask worker`), for comparison.
 
 Each is run --repeats times (default 5) and the best time kept. First the local runs on 1
 and 2 cores, interleaved, with no cluster (its idle processes would share the CPU): the
 scaling. Then, with the cluster started, local 2-core runs and Dask runs interleaved: the
 Dask overhead is measured against local runs beside the same (idle) cluster, so both see
-the same machine. The store chunks hold 1000 runs (10 chunks,
+the same machine; then the same with the other cluster. The store chunks hold 1000 runs (10 chunks,
 so 80 writes), each cut into 4 tasks of 250 runs. The three datasets must agree bit for
 bit.
 Result: benchmarks/results-sweep.json.
@@ -67,17 +69,23 @@ def spec(runs: int, t_end: float, chunk: int) -> dict:
 
 
 @contextlib.contextmanager
-def dask_processes(tmp: pathlib.Path, workers: int):
+def dask_processes(tmp: pathlib.Path, workers: int, tuned: bool = True):
     """A Dask cluster as one deploys it: a scheduler process and `workers` worker processes
-    of one thread each, on loopback; yields the scheduler's address."""
+    of one thread each, on loopback; yields the scheduler's address. `tuned`: started by
+    `kreisel scheduler` and `kreisel worker`, else by Dask's own commands."""
     log = open(tmp / "dask.log", "w")  # noqa: SIM115
     file = tmp / "scheduler.json"
+    file.unlink(missing_ok=True)
 
-    def spawn(*args):
-        return subprocess.Popen([sys.executable, "-m", *args], stdout=log, stderr=log)
+    def spawn(role, *args):
+        if tuned:
+            cmd = [sys.executable, "-m", "kreisel", role, *args]
+        else:
+            cmd = [sys.executable, "-m", f"distributed.cli.dask_{role}", *args]
+        return subprocess.Popen(cmd, stdout=log, stderr=log)
 
     procs = [
-        spawn("distributed.cli.dask_scheduler", "--host", "127.0.0.1", "--port", "0",
+        spawn("scheduler", "--host", "127.0.0.1", "--port", "0",
               "--dashboard-address", "127.0.0.1:0", "--scheduler-file", str(file))
     ]  # fmt: skip
     try:
@@ -90,7 +98,7 @@ def dask_processes(tmp: pathlib.Path, workers: int):
                 if time.time() > deadline:
                     raise RuntimeError(f"no Dask scheduler: see {log.name}") from None
                 time.sleep(0.1)
-        procs += [spawn("distributed.cli.dask_worker", address, "--nthreads", "1", "--no-nanny",
+        procs += [spawn("worker", address, "--nthreads", "1", "--no-nanny",
                         "--dashboard-address", "127.0.0.1:0") for _ in range(workers)]  # fmt: skip
         from distributed import Client
 
@@ -145,32 +153,38 @@ def main(argv=None):
         finally:
             os.sched_setaffinity(0, cores)
 
-    t1 = t2 = td = math.inf
+    t1 = t2 = math.inf
+    clusters = {}  # tuned or not: (local beside it, Dask, start-up)
+    dask_runs = []
     try:
         for _ in range(args.repeats):  # interleaved, best of each
             s, one = one_core()
             t1 = min(t1, s)
             s, two = run("two", threads=2)
             t2 = min(t2, s)
-        # the cluster only now: its idle processes would take CPU from the local runs
-        start = time.perf_counter()
-        with dask_processes(tmp, workers=2) as address, Client(address) as client:
-            warm = kreisel.SweepSpec.from_tables(spec(16, 0.1, 4))
-            kreisel.sweep(warm, None, client, progress=False)
-            startup = time.perf_counter() - start
-            t2c = math.inf
-            for _ in range(args.repeats):  # interleaved with local runs beside the same cluster
-                s, _ = run("two", threads=2)
-                t2c = min(t2c, s)
-                s, dk = run("dask", scheduler=client)
-                td = min(td, s)
+        # the clusters only now: their idle processes would take CPU from the local runs
+        for tuned in (True, False):
+            start = time.perf_counter()
+            with dask_processes(tmp, 2, tuned) as address, Client(address) as client:
+                warm = kreisel.SweepSpec.from_tables(spec(16, 0.1, 4))
+                kreisel.sweep(warm, None, client, progress=False)
+                startup = time.perf_counter() - start
+                t2c = td = math.inf
+                for _ in range(args.repeats):  # interleaved with local runs beside the cluster
+                    s, _ = run("two", threads=2)
+                    t2c = min(t2c, s)
+                    s, dk = run("dask", scheduler=client)
+                    td = min(td, s)
+                    dask_runs.append(dk)
+            clusters[tuned] = (t2c, td, startup)
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
     for name in one.data_vars:
-        for other in (two, dk):
+        for other in (two, *dask_runs):
             a, b = one[name].values, other[name].values
             if not np.array_equal(a, b, equal_nan=a.dtype.kind == "f"):
                 raise SystemExit(f"{name} differs between the runs: not bit for bit")
+    (t2c, td, startup), (t2d, tdd, _) = clusters[True], clusters[False]
     inverted = int(np.isfinite(one["inversion_time"].values).sum())
     res = {
         "case": CASE,
@@ -185,6 +199,9 @@ def main(argv=None):
         "scaling": t1 / t2,
         "local_2_cores_beside_cluster_s": t2c,
         "dask_overhead": td / t2c - 1,
+        "dask_defaults_2_workers_s": tdd,
+        "local_2_cores_beside_dask_defaults_s": t2d,
+        "dask_defaults_overhead": tdd / t2d - 1,
         "bit_for_bit": True,
         "inverted": inverted,
         "steps_mean": float(one["steps"].values.mean()),
@@ -193,9 +210,13 @@ def main(argv=None):
     print(f"S1: {sp.size} play-top runs of {args.t_end} s in {sp.n_chunks} chunks")
     print(f"  local, 1 core     {t1:8.2f} s")
     print(f"  local, 2 cores    {t2:8.2f} s   scaling {t1 / t2:.2f}x")
-    print(f"  local, 2 cores, the idle cluster beside it {t2c:8.2f} s")
-    print(f"  Dask, 2 workers   {td:8.2f} s   overhead {100 * (td / t2c - 1):+.1f} % against "
+    print("  Dask, 2 workers, started by kreisel scheduler / kreisel worker:")
+    print(f"    local, 2 cores, the idle cluster beside it {t2c:8.2f} s")
+    print(f"    Dask                {td:8.2f} s   overhead {100 * (td / t2c - 1):+.1f} % against "
           f"that (cluster start-up {startup:.1f} s, not counted)")  # fmt: skip
+    print("  the same with Dask's default settings (dask scheduler / dask worker):")
+    print(f"    local, 2 cores, the idle cluster beside it {t2d:8.2f} s")
+    print(f"    Dask                {tdd:8.2f} s   overhead {100 * (tdd / t2d - 1):+.1f} %")
     print(f"  bit for bit equal: yes; {inverted} of {sp.size} tops turned over")
     return res
 

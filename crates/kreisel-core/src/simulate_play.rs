@@ -11,7 +11,8 @@ use crate::error::{KreiselError, Result};
 use crate::integrate::{
     Dop853, EventSpec, IntegrateError, Locator, Observer, OdeSystem, Recorder, Stats, WithEvents,
 };
-use crate::models::play_top::{Friction, Mode, PlayTop, DIM};
+use crate::models::play_top::{Friction, Mode, PlayTop, RhsConsts, DIM};
+use std::cell::Cell;
 
 /// Settings of a play-top simulation.
 #[derive(Debug, Clone)]
@@ -53,30 +54,64 @@ pub struct PlayOutput {
     pub rhs_evals: u64,
 }
 
-/// The equations of the contact mode with code `M` ([`Mode::code`]): a constant, so that
-/// each mode's right-hand side is compiled without the dispatch on the mode.
-struct ModeSystem<'a, const M: u8> {
+/// The equations of the contact mode with code `M` ([`Mode::code`]), with the resistance
+/// torques when `RES` ([`PlayTop::has_resistance`]): constants, so that each variant's
+/// right-hand side is compiled without the dispatch on them.
+struct ModeSystem<'a, const M: u8, const RES: bool> {
     top: &'a PlayTop,
+    consts: RhsConsts,
     dir: [f64; 3],
+    last: &'a Cell<LastRhs>,
 }
 
-impl<const M: u8> OdeSystem<DIM> for ModeSystem<'_, M> {
+/// The last right-hand side evaluated: its time, orientation and normal force. The
+/// integrator evaluates the right-hand side at the (projected) end of every accepted step
+/// just before the events are checked there, so the lift-off event takes that normal force
+/// instead of computing it again. The key is the time and the orientation (the state's
+/// other components are not kept: storing the whole state costs more than it saves); a
+/// stage or root-finding state at the same time has another orientation (a step's last
+/// stage is not projected), so only the step's end state reuses it.
+#[derive(Clone, Copy)]
+struct LastRhs {
+    t: f64,
+    q: [f64; 4],
+    n: f64,
+}
+
+impl LastRhs {
+    const NONE: LastRhs = LastRhs {
+        t: f64::NAN,
+        q: [f64::NAN; 4],
+        n: f64::NAN,
+    };
+}
+
+impl<const M: u8, const RES: bool> OdeSystem<DIM> for ModeSystem<'_, M, RES> {
     #[inline(always)]
-    fn rhs(&self, _t: f64, y: &[f64; DIM], dy: &mut [f64; DIM]) {
-        self.top.dynamics(Mode::from_code(M), y, self.dir, dy);
+    fn rhs(&self, t: f64, y: &[f64; DIM], dy: &mut [f64; DIM]) {
+        let c = self
+            .top
+            .dynamics_with::<RES>(&self.consts, Mode::from_code(M), y, self.dir, dy);
+        self.last.set(LastRhs {
+            t,
+            q: [y[0], y[1], y[2], y[3]],
+            n: c.n,
+        });
     }
     fn project(&self, y: &mut [f64; DIM]) {
         self.top.project(Mode::from_code(M), y);
     }
 }
 
-/// Integrates one phase in `mode` (see [`ModeSystem`]).
+/// Integrates one phase in `mode` (see [`ModeSystem`]); every right-hand side evaluated is
+/// left in `last`.
 #[allow(clippy::too_many_arguments)]
 fn integrate_phase<O: Observer<DIM>>(
     integrator: &Dop853,
     top: &PlayTop,
     mode: Mode,
     dir: [f64; 3],
+    last: &Cell<LastRhs>,
     t: f64,
     y: [f64; DIM],
     t_end: f64,
@@ -85,10 +120,30 @@ fn integrate_phase<O: Observer<DIM>>(
     const SLIP: u8 = Mode::Slip.code();
     const ROLL: u8 = Mode::Roll.code();
     const FLIGHT: u8 = Mode::Flight.code();
-    match mode {
-        Mode::Slip => integrator.integrate(&ModeSystem::<SLIP> { top, dir }, t, y, t_end, obs),
-        Mode::Roll => integrator.integrate(&ModeSystem::<ROLL> { top, dir }, t, y, t_end, obs),
-        Mode::Flight => integrator.integrate(&ModeSystem::<FLIGHT> { top, dir }, t, y, t_end, obs),
+    let consts = top.rhs_consts();
+    macro_rules! run {
+        ($m:expr, $res:expr) => {
+            integrator.integrate(
+                &ModeSystem::<{ $m }, { $res }> {
+                    top,
+                    consts,
+                    dir,
+                    last,
+                },
+                t,
+                y,
+                t_end,
+                obs,
+            )
+        };
+    }
+    match (mode, top.has_resistance()) {
+        (Mode::Slip, false) => run!(SLIP, false),
+        (Mode::Slip, true) => run!(SLIP, true),
+        (Mode::Roll, false) => run!(ROLL, false),
+        (Mode::Roll, true) => run!(ROLL, true),
+        (Mode::Flight, false) => run!(FLIGHT, false),
+        (Mode::Flight, true) => run!(FLIGHT, true),
     }
 }
 
@@ -156,7 +211,13 @@ pub fn simulate_play(top: &PlayTop, y0: [f64; DIM], settings: &PlaySettings) -> 
         // Slip speed taken as zero: well above the integration error of the slip itself.
         let eps = (10.0 * settings.rtol).max(1e-10) * top.slip_scale(&top.kin(&y));
         // Mode events (terminal) then watched ones.
-        let mut g_liftoff = |_t: f64, y: &[f64; DIM]| {
+        let last = Cell::new(LastRhs::NONE);
+        let mut g_liftoff = |t: f64, y: &[f64; DIM]| {
+            let c = last.get();
+            if c.t == t && c.q == [y[0], y[1], y[2], y[3]] {
+                // The end of a step, just evaluated by the integrator (see LastRhs).
+                return c.n;
+            }
             let mut dy = [0.0; DIM];
             top.dynamics(mode, y, dir, &mut dy).n
         };
@@ -221,8 +282,10 @@ pub fn simulate_play(top: &PlayTop, y0: [f64; DIM], settings: &PlaySettings) -> 
             .map_or(0, |te| te.len() - seg_times.map_or(0, |s| s.len()));
         let mut rec = Recorder::new(seg_times, None);
         let mut obs = WithEvents::new(locator, &mut rec);
-        let (t1, y1, st) = integrate_phase(&integrator, top, mode, dir, t, y, t_end, &mut obs)
-            .map_err(|e| KreiselError::Numerical(format!("play top, {} mode: {e}", mode.name())))?;
+        let (t1, y1, st) =
+            integrate_phase(&integrator, top, mode, dir, &last, t, y, t_end, &mut obs).map_err(
+                |e| KreiselError::Numerical(format!("play top, {} mode: {e}", mode.name())),
+            )?;
         let hits: Vec<(usize, f64)> = obs.locator.events.iter().map(|e| (e.index, e.t)).collect();
         drop(obs);
         out.steps += st.steps;

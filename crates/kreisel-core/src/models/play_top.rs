@@ -113,6 +113,23 @@ pub struct Contact {
     pub ft: [f64; 3],
 }
 
+/// The reciprocals of the parameters that the right-hand side uses, computed once for a
+/// whole integration rather than on every call ([`PlayTop::rhs_consts`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RhsConsts {
+    inv_a: f64,
+    inv_c: f64,
+    inv_m: f64,
+}
+
+impl RhsConsts {
+    /// `I^-1 x` (body frame).
+    #[inline(always)]
+    fn inv_inertia(&self, x: [f64; 3]) -> [f64; 3] {
+        [x[0] * self.inv_a, x[1] * self.inv_a, x[2] * self.inv_c]
+    }
+}
+
 /// Kinematic quantities of a state.
 #[derive(Debug, Clone, Copy)]
 pub struct Kin {
@@ -266,9 +283,22 @@ impl PlayTop {
 
     #[inline(always)]
     fn inv_inertia(&self, x: [f64; 3]) -> [f64; 3] {
-        // Reciprocals: inlined calls share them, so a right-hand side divides twice, not six times.
-        let (ia, ic) = (1.0 / self.a, 1.0 / self.c);
-        [x[0] * ia, x[1] * ia, x[2] * ic]
+        self.rhs_consts().inv_inertia(x)
+    }
+
+    /// The reciprocals the right-hand side needs (see [`PlayTop::dynamics_with`]).
+    #[inline(always)]
+    pub fn rhs_consts(&self) -> RhsConsts {
+        RhsConsts {
+            inv_a: 1.0 / self.a,
+            inv_c: 1.0 / self.c,
+            inv_m: 1.0 / self.m,
+        }
+    }
+
+    /// Whether any resistance torque (rolling, drilling, air) acts.
+    pub fn has_resistance(&self) -> bool {
+        self.rolling > 0.0 || self.drilling > 0.0 || self.air > 0.0
     }
 
     /// Body angular momentum about G.
@@ -438,6 +468,22 @@ impl PlayTop {
         dir: [f64; 3],
         dy: &mut [f64; DIM],
     ) -> Contact {
+        self.dynamics_with::<true>(&self.rhs_consts(), mode, y, dir, dy)
+    }
+
+    /// [`PlayTop::dynamics`] with the reciprocals `p` of [`PlayTop::rhs_consts`] given, and
+    /// the resistance torques left out of the code when `RES` is false (for a top without
+    /// them, [`PlayTop::has_resistance`] false; the result is then the same).
+    #[inline(always)]
+    pub fn dynamics_with<const RES: bool>(
+        &self,
+        p: &RhsConsts,
+        mode: Mode,
+        y: &[f64; DIM],
+        dir: [f64; 3],
+        dy: &mut [f64; DIM],
+    ) -> Contact {
+        debug_assert!(RES || !self.has_resistance());
         let k = self.kin(y);
         let inertia = self.inertia();
         let iw = [
@@ -446,11 +492,30 @@ impl PlayTop {
             inertia[2] * k.w[2],
         ];
         let gyro = cross(k.w, iw); // omega x I omega
-        let (res_n, res_0) = self.resistance(&k);
-        let free_torque = [res_0[0] - gyro[0], res_0[1] - gyro[1], res_0[2] - gyro[2]];
+                                   // Resistance torques: per unit N, and the rest; free_torque = the rest - gyro.
+        let (res_n, res_0) = if RES {
+            self.resistance(&k)
+        } else {
+            ([0.0; 3], [0.0; 3])
+        };
+        let free_torque = if RES {
+            [res_0[0] - gyro[0], res_0[1] - gyro[1], res_0[2] - gyro[2]]
+        } else {
+            scale(-1.0, gyro)
+        };
+        // The torque about G of a contact force f (body frame), with the resistance torque
+        // per unit N of its normal part `fn_`.
+        let contact_torque = |f: [f64; 3], fn_: f64| {
+            let t = cross(k.a_b, f);
+            if RES {
+                add(t, scale(fn_, res_n))
+            } else {
+                t
+            }
+        };
         let (contact, wdot, vdot) = match mode {
             Mode::Flight => {
-                let wdot = self.inv_inertia(free_torque);
+                let wdot = p.inv_inertia(free_torque);
                 (Contact::default(), wdot, [0.0, 0.0, -self.g])
             }
             Mode::Slip => {
@@ -458,13 +523,13 @@ impl PlayTop {
                 // that T stays on the floor: N/m - g - s d2u/dt2 = 0, affine in N.
                 let f_s = add(EZ, self.slip_force_per_n(&k, dir));
                 let f_b = k.to_body(f_s);
-                let t1 = add(cross(k.a_b, f_b), res_n);
-                let b1 = self.inv_inertia(t1);
-                let b0 = self.inv_inertia(free_torque);
+                let t1 = contact_torque(f_b, 1.0);
+                let b1 = p.inv_inertia(t1);
+                let b0 = p.inv_inertia(free_torque);
                 let gdot = cross(k.gamma, k.w);
                 let k0 = cross(gdot, k.w)[2] + cross(k.gamma, b0)[2];
                 let k1 = cross(k.gamma, b1)[2];
-                let n = (self.g + self.s * k0) / (1.0 / self.m - self.s * k1);
+                let n = (self.g + self.s * k0) / (p.inv_m - self.s * k1);
                 let wdot = add(b0, scale(n, b1));
                 let n_m = n / self.m;
                 let vdot = [n_m * f_s[0], n_m * f_s[1], n_m * f_s[2] - self.g];
@@ -481,10 +546,10 @@ impl PlayTop {
                 // The rolling constraint v_T = 0 differentiated (body frame):
                 // F/m - g Gamma + wdot x a - s omega x (omega x e3) = 0, with
                 // wdot = I^-1 (a x F + (F.Gamma) res_n + free_torque): linear in F.
-                let b0 = self.inv_inertia(free_torque);
+                let b0 = p.inv_inertia(free_torque);
                 let map = |f: [f64; 3]| {
-                    let t = add(cross(k.a_b, f), scale(dot(f, k.gamma), res_n));
-                    add(scale(1.0 / self.m, f), cross(self.inv_inertia(t), k.a_b))
+                    let t = contact_torque(f, dot(f, k.gamma));
+                    add(scale(p.inv_m, f), cross(p.inv_inertia(t), k.a_b))
                 };
                 let cols = [
                     map([1.0, 0.0, 0.0]),
@@ -504,8 +569,8 @@ impl PlayTop {
                 let f_b = solve3(mat, rhs);
                 let n = dot(f_b, k.gamma);
                 let f_s = k.to_space(f_b);
-                let t = add(cross(k.a_b, f_b), scale(n, res_n));
-                let wdot = add(self.inv_inertia(t), b0);
+                let t = contact_torque(f_b, n);
+                let wdot = add(p.inv_inertia(t), b0);
                 let vdot = [f_s[0] / self.m, f_s[1] / self.m, f_s[2] / self.m - self.g];
                 (
                     Contact {
@@ -529,12 +594,11 @@ impl PlayTop {
         } else {
             0.0
         };
-        let p_res = if self.rolling > 0.0 || self.drilling > 0.0 || self.air > 0.0 {
-            dot(add(scale(contact.n, res_n), res_0), k.w)
+        dy[13] = if RES && self.has_resistance() {
+            -(p_friction + dot(add(scale(contact.n, res_n), res_0), k.w))
         } else {
-            0.0
+            -p_friction
         };
-        dy[13] = -(p_friction + p_res);
         contact
     }
 

@@ -464,53 +464,81 @@ pub fn play_columns(
     mode: &[Mode],
     dir: &[[f64; 3]],
 ) -> PlayColumns {
-    use crate::rotation::euler_from_quaternion;
-    let n = y.len();
-    let mut c = PlayColumns {
-        u: Vec::with_capacity(n),
-        theta: Vec::with_capacity(n),
-        phi: Vec::with_capacity(n),
-        psi: Vec::with_capacity(n),
-        contact: Vec::with_capacity(n),
-        slip_velocity: Vec::with_capacity(n),
-        slip_speed: Vec::with_capacity(n),
-        normal_force: Vec::with_capacity(n),
-        jellett: Vec::with_capacity(n),
-        energy_parts: Vec::with_capacity(n),
-    };
+    if top.has_resistance() {
+        columns_with::<true>(top, y, mode, dir)
+    } else {
+        columns_with::<false>(top, y, mode, dir)
+    }
+}
+
+/// [`play_columns`], with the resistance torques compiled in when `RES`
+/// ([`PlayTop::dynamics_with`]).
+fn columns_with<const RES: bool>(
+    top: &PlayTop,
+    y: &[[f64; DIM]],
+    mode: &[Mode],
+    dir: &[[f64; 3]],
+) -> PlayColumns {
+    use crate::rotation::euler_from_matrix;
+    // One row per state, then the columns: pushing to ten columns per row costs more than
+    // the row's arithmetic.
+    struct Row {
+        u: f64,
+        euler: (f64, f64, f64),
+        contact: [f64; 3],
+        slip_velocity: [f64; 3],
+        slip_speed: f64,
+        normal_force: f64,
+        jellett: f64,
+        energy_parts: [f64; 3],
+    }
+    let consts = top.rhs_consts();
     let tau = std::f64::consts::TAU;
     let (mut lphi, mut lpsi) = (0.0f64, 0.0f64);
-    for i in 0..n {
-        let y = &y[i];
-        let k = top.kin(y);
-        let (phi, theta, psi) = euler_from_quaternion(k.q.normalized());
-        let (phi, psi) = if i == 0 {
-            (phi, psi)
-        } else {
-            (
-                phi + tau * ((lphi - phi) / tau).round(),
-                psi + tau * ((lpsi - psi) / tau).round(),
-            )
-        };
-        lphi = phi;
-        lpsi = psi;
-        c.u.push(k.u);
-        c.theta.push(theta);
-        c.phi.push(phi);
-        c.psi.push(psi);
-        c.contact
-            .push([y[7] + k.a_s[0], y[8] + k.a_s[1], y[9] + k.a_s[2]]);
-        c.slip_velocity.push(k.v_t);
-        c.slip_speed
-            .push((k.v_t[0] * k.v_t[0] + k.v_t[1] * k.v_t[1]).sqrt());
-        let mut dy = [0.0; DIM];
-        c.normal_force
-            .push(top.dynamics(mode[i], y, dir[i], &mut dy).n);
-        c.jellett.push(top.jellett(y));
-        let (a, b, p) = top.energy_parts(y);
-        c.energy_parts.push([a, b, p]);
+    let rows: Vec<Row> = y
+        .iter()
+        .zip(mode)
+        .zip(dir)
+        .enumerate()
+        .map(|(i, ((y, &mode), &dir))| {
+            let k = top.kin(y);
+            let (phi, theta, psi) = euler_from_matrix(k.r);
+            let (phi, psi) = if i == 0 {
+                (phi, psi)
+            } else {
+                (
+                    phi + tau * ((lphi - phi) / tau).round(),
+                    psi + tau * ((lpsi - psi) / tau).round(),
+                )
+            };
+            lphi = phi;
+            lpsi = psi;
+            let mut dy = [0.0; DIM];
+            let (a, b, p) = top.energy_parts(y);
+            Row {
+                u: k.u,
+                euler: (phi, theta, psi),
+                contact: [y[7] + k.a_s[0], y[8] + k.a_s[1], y[9] + k.a_s[2]],
+                slip_velocity: k.v_t,
+                slip_speed: (k.v_t[0] * k.v_t[0] + k.v_t[1] * k.v_t[1]).sqrt(),
+                normal_force: top.dynamics_with::<RES>(&consts, mode, y, dir, &mut dy).n,
+                jellett: top.jellett(y),
+                energy_parts: [a, b, p],
+            }
+        })
+        .collect();
+    PlayColumns {
+        u: rows.iter().map(|r| r.u).collect(),
+        theta: rows.iter().map(|r| r.euler.1).collect(),
+        phi: rows.iter().map(|r| r.euler.0).collect(),
+        psi: rows.iter().map(|r| r.euler.2).collect(),
+        contact: rows.iter().map(|r| r.contact).collect(),
+        slip_velocity: rows.iter().map(|r| r.slip_velocity).collect(),
+        slip_speed: rows.iter().map(|r| r.slip_speed).collect(),
+        normal_force: rows.iter().map(|r| r.normal_force).collect(),
+        jellett: rows.iter().map(|r| r.jellett).collect(),
+        energy_parts: rows.iter().map(|r| r.energy_parts).collect(),
     }
-    c
 }
 
 /// What a batch run keeps of each simulation.

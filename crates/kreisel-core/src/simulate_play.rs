@@ -11,7 +11,7 @@ use crate::error::{KreiselError, Result};
 use crate::integrate::{
     Dop853, EventSpec, IntegrateError, Locator, Observer, OdeSystem, Recorder, Stats, WithEvents,
 };
-use crate::models::play_top::{Friction, Mode, PlayTop, RhsConsts, DIM};
+use crate::models::play_top::{law, Friction, Mode, PlayTop, RhsConsts, DIM};
 use std::cell::Cell;
 
 /// Settings of a play-top simulation.
@@ -55,9 +55,10 @@ pub struct PlayOutput {
 }
 
 /// The equations of the contact mode with code `M` ([`Mode::code`]), with the resistance
-/// torques when `RES` ([`PlayTop::has_resistance`]): constants, so that each variant's
-/// right-hand side is compiled without the dispatch on them.
-struct ModeSystem<'a, const M: u8, const RES: bool> {
+/// torques when `RES` ([`PlayTop::has_resistance`]) and the friction law `LAW` ([`law`]):
+/// constants, so that each variant's right-hand side is compiled without the dispatch on
+/// them.
+struct ModeSystem<'a, const M: u8, const RES: bool, const LAW: u8> {
     top: &'a PlayTop,
     consts: RhsConsts,
     dir: [f64; 3],
@@ -86,12 +87,12 @@ impl LastRhs {
     };
 }
 
-impl<const M: u8, const RES: bool> OdeSystem<DIM> for ModeSystem<'_, M, RES> {
+impl<const M: u8, const RES: bool, const LAW: u8> OdeSystem<DIM> for ModeSystem<'_, M, RES, LAW> {
     #[inline(always)]
     fn rhs(&self, t: f64, y: &[f64; DIM], dy: &mut [f64; DIM]) {
-        let c = self
-            .top
-            .dynamics_with::<RES>(&self.consts, Mode::from_code(M), y, self.dir, dy);
+        let c =
+            self.top
+                .dynamics_with::<RES, LAW>(&self.consts, Mode::from_code(M), y, self.dir, dy);
         self.last.set(LastRhs {
             t,
             q: [y[0], y[1], y[2], y[3]],
@@ -122,9 +123,9 @@ fn integrate_phase<O: Observer<DIM>>(
     const FLIGHT: u8 = Mode::Flight.code();
     let consts = top.rhs_consts();
     macro_rules! run {
-        ($m:expr, $res:expr) => {
+        ($m:expr, $res:expr, $law:expr) => {
             integrator.integrate(
-                &ModeSystem::<{ $m }, { $res }> {
+                &ModeSystem::<{ $m }, { $res }, { $law }> {
                     top,
                     consts,
                     dir,
@@ -137,13 +138,16 @@ fn integrate_phase<O: Observer<DIM>>(
             )
         };
     }
-    match (mode, top.has_resistance()) {
-        (Mode::Slip, false) => run!(SLIP, false),
-        (Mode::Slip, true) => run!(SLIP, true),
-        (Mode::Roll, false) => run!(ROLL, false),
-        (Mode::Roll, true) => run!(ROLL, true),
-        (Mode::Flight, false) => run!(FLIGHT, false),
-        (Mode::Flight, true) => run!(FLIGHT, true),
+    // The friction law matters in slip only; tops with resistance torques look it up.
+    match (mode, top.has_resistance(), top.friction.law()) {
+        (Mode::Slip, false, law::VISCOUS) => run!(SLIP, false, law::VISCOUS),
+        (Mode::Slip, false, law::COULOMB) => run!(SLIP, false, law::COULOMB),
+        (Mode::Slip, false, _) => run!(SLIP, false, law::ANY),
+        (Mode::Slip, true, _) => run!(SLIP, true, law::ANY),
+        (Mode::Roll, false, _) => run!(ROLL, false, law::ANY),
+        (Mode::Roll, true, _) => run!(ROLL, true, law::ANY),
+        (Mode::Flight, false, _) => run!(FLIGHT, false, law::ANY),
+        (Mode::Flight, true, _) => run!(FLIGHT, true, law::ANY),
     }
 }
 
@@ -521,7 +525,9 @@ fn columns_with<const RES: bool>(
                 contact: [y[7] + k.a_s[0], y[8] + k.a_s[1], y[9] + k.a_s[2]],
                 slip_velocity: k.v_t,
                 slip_speed: (k.v_t[0] * k.v_t[0] + k.v_t[1] * k.v_t[1]).sqrt(),
-                normal_force: top.dynamics_with::<RES>(&consts, mode, y, dir, &mut dy).n,
+                normal_force: top
+                    .dynamics_with::<RES, { law::ANY }>(&consts, mode, y, dir, &mut dy)
+                    .n,
                 jellett: top.jellett(y),
                 energy_parts: [a, b, p],
             }

@@ -37,6 +37,38 @@ pub enum Friction {
     Frictionless,
 }
 
+impl Friction {
+    /// The law's code in [`law`].
+    pub const fn law(&self) -> u8 {
+        match self {
+            Friction::Coulomb { .. } => law::COULOMB,
+            Friction::Viscous { .. } => law::VISCOUS,
+            Friction::Frictionless => law::FRICTIONLESS,
+        }
+    }
+
+    /// The coefficient mu (0 without friction).
+    pub const fn mu(&self) -> f64 {
+        match *self {
+            Friction::Coulomb { mu } | Friction::Viscous { mu } => mu,
+            Friction::Frictionless => 0.0,
+        }
+    }
+}
+
+/// Codes of the friction laws, for right-hand sides compiled for one law
+/// ([`PlayTop::dynamics_with`]).
+pub mod law {
+    /// Whichever law the top has (looked up on every call).
+    pub const ANY: u8 = 0;
+    /// [`super::Friction::Coulomb`].
+    pub const COULOMB: u8 = 1;
+    /// [`super::Friction::Viscous`].
+    pub const VISCOUS: u8 = 2;
+    /// [`super::Friction::Frictionless`].
+    pub const FRICTIONLESS: u8 = 3;
+}
+
 /// Contact mode.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Mode {
@@ -113,13 +145,17 @@ pub struct Contact {
     pub ft: [f64; 3],
 }
 
-/// The reciprocals of the parameters that the right-hand side uses, computed once for a
-/// whole integration rather than on every call ([`PlayTop::rhs_consts`]).
+/// The ratios of the parameters that the right-hand side uses, computed once for a whole
+/// integration rather than on every call ([`PlayTop::rhs_consts`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RhsConsts {
     inv_a: f64,
     inv_c: f64,
     inv_m: f64,
+    /// (A - C) / A.
+    euler: f64,
+    /// The friction coefficient.
+    mu: f64,
 }
 
 impl RhsConsts {
@@ -141,6 +177,8 @@ pub struct Kin {
     pub w: [f64; 3],
     /// Upward vertical in the body frame.
     pub gamma: [f64; 3],
+    /// Its rate of change in the body frame, `gamma x omega`.
+    pub gdot: [f64; 3],
     /// G to T in the body frame.
     pub a_b: [f64; 3],
     /// G to T in space.
@@ -277,22 +315,19 @@ impl PlayTop {
     }
 
     #[inline(always)]
-    fn inertia(&self) -> [f64; 3] {
-        [self.a, self.a, self.c]
-    }
-
-    #[inline(always)]
     fn inv_inertia(&self, x: [f64; 3]) -> [f64; 3] {
         self.rhs_consts().inv_inertia(x)
     }
 
-    /// The reciprocals the right-hand side needs (see [`PlayTop::dynamics_with`]).
+    /// The ratios the right-hand side needs (see [`PlayTop::dynamics_with`]).
     #[inline(always)]
     pub fn rhs_consts(&self) -> RhsConsts {
         RhsConsts {
             inv_a: 1.0 / self.a,
             inv_c: 1.0 / self.c,
             inv_m: 1.0 / self.m,
+            euler: (self.a - self.c) / self.a,
+            mu: self.friction.mu(),
         }
     }
 
@@ -328,13 +363,20 @@ impl PlayTop {
             -self.s * r[2][2] - self.rho,
         ];
         let v = [y[10], y[11], y[12]];
-        let wa = cross(w, a_b);
+        // omega x a = rho gdot - s omega x e3, with a = -rho gamma - s e3.
+        let gdot = cross(gamma, w);
+        let wa = [
+            self.rho * gdot[0] - self.s * w[1],
+            self.rho * gdot[1] + self.s * w[0],
+            self.rho * gdot[2],
+        ];
         let v_t = add(v, [dot(r[0], wa), dot(r[1], wa), dot(r[2], wa)]);
         Kin {
             q,
             r,
             w,
             gamma,
+            gdot,
             a_b,
             a_s,
             v,
@@ -371,13 +413,19 @@ impl PlayTop {
         (per_n, scale(-self.air, k.w))
     }
 
-    /// The tangential force per unit N while slipping (space frame).
+    /// The tangential force per unit N while slipping (space frame), by the friction law
+    /// `LAW` (see [`PlayTop::dynamics_with`]).
     #[inline(always)]
-    fn slip_force_per_n(&self, k: &Kin, dir: [f64; 3]) -> [f64; 3] {
-        match self.friction {
-            Friction::Frictionless => [0.0; 3],
-            Friction::Viscous { mu } => [-mu * k.v_t[0], -mu * k.v_t[1], 0.0],
-            Friction::Coulomb { mu } => {
+    fn slip_force_per_n<const LAW: u8>(&self, p: &RhsConsts, k: &Kin, dir: [f64; 3]) -> [f64; 3] {
+        let law = if LAW == law::ANY {
+            self.friction.law()
+        } else {
+            LAW
+        };
+        let mu = p.mu;
+        match law {
+            law::VISCOUS => [-mu * k.v_t[0], -mu * k.v_t[1], 0.0],
+            law::COULOMB => {
                 let sp = (k.v_t[0] * k.v_t[0] + k.v_t[1] * k.v_t[1]).sqrt();
                 if sp > 0.0 {
                     [-mu * k.v_t[0] / sp, -mu * k.v_t[1] / sp, 0.0]
@@ -387,6 +435,7 @@ impl PlayTop {
                     [-mu * dir[0], -mu * dir[1], 0.0]
                 }
             }
+            _ => [0.0; 3],
         }
     }
 
@@ -468,14 +517,15 @@ impl PlayTop {
         dir: [f64; 3],
         dy: &mut [f64; DIM],
     ) -> Contact {
-        self.dynamics_with::<true>(&self.rhs_consts(), mode, y, dir, dy)
+        self.dynamics_with::<true, { law::ANY }>(&self.rhs_consts(), mode, y, dir, dy)
     }
 
-    /// [`PlayTop::dynamics`] with the reciprocals `p` of [`PlayTop::rhs_consts`] given, and
-    /// the resistance torques left out of the code when `RES` is false (for a top without
-    /// them, [`PlayTop::has_resistance`] false; the result is then the same).
+    /// [`PlayTop::dynamics`] with the ratios `p` of [`PlayTop::rhs_consts`] given, the
+    /// resistance torques left out of the code when `RES` is false (for a top without them,
+    /// [`PlayTop::has_resistance`] false) and the friction law `LAW` ([`law`]) compiled in
+    /// (the top's own, or [`law::ANY`]). The result is the same as [`PlayTop::dynamics`]'s.
     #[inline(always)]
-    pub fn dynamics_with<const RES: bool>(
+    pub fn dynamics_with<const RES: bool, const LAW: u8>(
         &self,
         p: &RhsConsts,
         mode: Mode,
@@ -484,24 +534,21 @@ impl PlayTop {
         dy: &mut [f64; DIM],
     ) -> Contact {
         debug_assert!(RES || !self.has_resistance());
+        debug_assert!(LAW == law::ANY || LAW == self.friction.law());
         let k = self.kin(y);
-        let inertia = self.inertia();
-        let iw = [
-            inertia[0] * k.w[0],
-            inertia[1] * k.w[1],
-            inertia[2] * k.w[2],
-        ];
-        let gyro = cross(k.w, iw); // omega x I omega
-                                   // Resistance torques: per unit N, and the rest; free_torque = the rest - gyro.
+        // I^-1 of the torque without the contact force: -omega x I omega, which for a
+        // symmetric top (Euler's equations) is ((A - C) w2 w3, (C - A) w1 w3, 0), plus the
+        // resistance torque that does not scale with N; `res_n` is the part per unit N.
+        let euler = [p.euler * k.w[1] * k.w[2], -p.euler * k.w[0] * k.w[2], 0.0];
         let (res_n, res_0) = if RES {
             self.resistance(&k)
         } else {
             ([0.0; 3], [0.0; 3])
         };
-        let free_torque = if RES {
-            [res_0[0] - gyro[0], res_0[1] - gyro[1], res_0[2] - gyro[2]]
+        let b0 = if RES {
+            add(p.inv_inertia(res_0), euler)
         } else {
-            scale(-1.0, gyro)
+            euler
         };
         // The torque about G of a contact force f (body frame), with the resistance torque
         // per unit N of its normal part `fn_`.
@@ -514,20 +561,15 @@ impl PlayTop {
             }
         };
         let (contact, wdot, vdot) = match mode {
-            Mode::Flight => {
-                let wdot = p.inv_inertia(free_torque);
-                (Contact::default(), wdot, [0.0, 0.0, -self.g])
-            }
+            Mode::Flight => (Contact::default(), b0, [0.0, 0.0, -self.g]),
             Mode::Slip => {
                 // F = N f with f = ez + (tangential force per unit N); N from the constraint
                 // that T stays on the floor: N/m - g - s d2u/dt2 = 0, affine in N.
-                let f_s = add(EZ, self.slip_force_per_n(&k, dir));
+                let f_s = add(EZ, self.slip_force_per_n::<LAW>(p, &k, dir));
                 let f_b = k.to_body(f_s);
                 let t1 = contact_torque(f_b, 1.0);
                 let b1 = p.inv_inertia(t1);
-                let b0 = p.inv_inertia(free_torque);
-                let gdot = cross(k.gamma, k.w);
-                let k0 = cross(gdot, k.w)[2] + cross(k.gamma, b0)[2];
+                let k0 = cross(k.gdot, k.w)[2] + cross(k.gamma, b0)[2];
                 let k1 = cross(k.gamma, b1)[2];
                 let n = (self.g + self.s * k0) / (p.inv_m - self.s * k1);
                 let wdot = add(b0, scale(n, b1));
@@ -545,8 +587,7 @@ impl PlayTop {
             Mode::Roll => {
                 // The rolling constraint v_T = 0 differentiated (body frame):
                 // F/m - g Gamma + wdot x a - s omega x (omega x e3) = 0, with
-                // wdot = I^-1 (a x F + (F.Gamma) res_n + free_torque): linear in F.
-                let b0 = p.inv_inertia(free_torque);
+                // wdot = I^-1 (a x F + (F.Gamma) res_n) + b0: linear in F.
                 let map = |f: [f64; 3]| {
                     let t = contact_torque(f, dot(f, k.gamma));
                     add(scale(p.inv_m, f), cross(p.inv_inertia(t), k.a_b))

@@ -211,8 +211,6 @@ impl Kin {
     }
 }
 
-const EZ: [f64; 3] = [0.0, 0.0, 1.0];
-
 fn add(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
 }
@@ -539,7 +537,8 @@ impl PlayTop {
         // I^-1 of the torque without the contact force: -omega x I omega, which for a
         // symmetric top (Euler's equations) is ((A - C) w2 w3, (C - A) w1 w3, 0), plus the
         // resistance torque that does not scale with N; `res_n` is the part per unit N.
-        let euler = [p.euler * k.w[1] * k.w[2], -p.euler * k.w[0] * k.w[2], 0.0];
+        // (Its axial part -0.0: adding it is the identity, which the compiler drops.)
+        let euler = [p.euler * k.w[1] * k.w[2], -p.euler * k.w[0] * k.w[2], -0.0];
         let (res_n, res_0) = if RES {
             self.resistance(&k)
         } else {
@@ -565,7 +564,8 @@ impl PlayTop {
             Mode::Slip => {
                 // F = N f with f = ez + (tangential force per unit N); N from the constraint
                 // that T stays on the floor: N/m - g - s d2u/dt2 = 0, affine in N.
-                let f_s = add(EZ, self.slip_force_per_n::<LAW>(p, &k, dir));
+                let f_t = self.slip_force_per_n::<LAW>(p, &k, dir);
+                let f_s = [f_t[0], f_t[1], 1.0];
                 let f_b = k.to_body(f_s);
                 let t1 = contact_torque(f_b, 1.0);
                 let b1 = p.inv_inertia(t1);

@@ -484,8 +484,9 @@ fn columns_with<const RES: bool>(
     dir: &[[f64; 3]],
 ) -> PlayColumns {
     use crate::rotation::euler_from_matrix;
-    // One row per state, then the columns: pushing to ten columns per row costs more than
-    // the row's arithmetic.
+    // Rows in blocks, then the blocks' columns: pushing to ten columns per row costs more
+    // than the row's arithmetic, and rows for the whole run would be a large allocation.
+    #[derive(Clone, Copy, Default)]
     struct Row {
         u: f64,
         euler: (f64, f64, f64),
@@ -496,15 +497,31 @@ fn columns_with<const RES: bool>(
         jellett: f64,
         energy_parts: [f64; 3],
     }
+    const BLOCK: usize = 128;
+    let n = y.len();
+    let mut c = PlayColumns {
+        u: Vec::with_capacity(n),
+        theta: Vec::with_capacity(n),
+        phi: Vec::with_capacity(n),
+        psi: Vec::with_capacity(n),
+        contact: Vec::with_capacity(n),
+        slip_velocity: Vec::with_capacity(n),
+        slip_speed: Vec::with_capacity(n),
+        normal_force: Vec::with_capacity(n),
+        jellett: Vec::with_capacity(n),
+        energy_parts: Vec::with_capacity(n),
+    };
     let consts = top.rhs_consts();
     let tau = std::f64::consts::TAU;
     let (mut lphi, mut lpsi) = (0.0f64, 0.0f64);
-    let rows: Vec<Row> = y
-        .iter()
-        .zip(mode)
-        .zip(dir)
-        .enumerate()
-        .map(|(i, ((y, &mode), &dir))| {
+    let mut rows = [Row::default(); BLOCK];
+    for start in (0..n).step_by(BLOCK) {
+        let end = n.min(start + BLOCK);
+        let states = y[start..end]
+            .iter()
+            .zip(&mode[start..end])
+            .zip(&dir[start..end]);
+        for (i, (row, ((y, &mode), &dir))) in (start..).zip(rows.iter_mut().zip(states)) {
             let k = top.kin(y);
             let (phi, theta, psi) = euler_from_matrix(k.r);
             let (phi, psi) = if i == 0 {
@@ -519,7 +536,7 @@ fn columns_with<const RES: bool>(
             lpsi = psi;
             let mut dy = [0.0; DIM];
             let (a, b, p) = top.energy_parts(y);
-            Row {
+            *row = Row {
                 u: k.u,
                 euler: (phi, theta, psi),
                 contact: [y[7] + k.a_s[0], y[8] + k.a_s[1], y[9] + k.a_s[2]],
@@ -530,21 +547,21 @@ fn columns_with<const RES: bool>(
                     .n,
                 jellett: top.jellett(y),
                 energy_parts: [a, b, p],
-            }
-        })
-        .collect();
-    PlayColumns {
-        u: rows.iter().map(|r| r.u).collect(),
-        theta: rows.iter().map(|r| r.euler.1).collect(),
-        phi: rows.iter().map(|r| r.euler.0).collect(),
-        psi: rows.iter().map(|r| r.euler.2).collect(),
-        contact: rows.iter().map(|r| r.contact).collect(),
-        slip_velocity: rows.iter().map(|r| r.slip_velocity).collect(),
-        slip_speed: rows.iter().map(|r| r.slip_speed).collect(),
-        normal_force: rows.iter().map(|r| r.normal_force).collect(),
-        jellett: rows.iter().map(|r| r.jellett).collect(),
-        energy_parts: rows.iter().map(|r| r.energy_parts).collect(),
+            };
+        }
+        let rows = &rows[..end - start];
+        c.u.extend(rows.iter().map(|r| r.u));
+        c.theta.extend(rows.iter().map(|r| r.euler.1));
+        c.phi.extend(rows.iter().map(|r| r.euler.0));
+        c.psi.extend(rows.iter().map(|r| r.euler.2));
+        c.contact.extend(rows.iter().map(|r| r.contact));
+        c.slip_velocity.extend(rows.iter().map(|r| r.slip_velocity));
+        c.slip_speed.extend(rows.iter().map(|r| r.slip_speed));
+        c.normal_force.extend(rows.iter().map(|r| r.normal_force));
+        c.jellett.extend(rows.iter().map(|r| r.jellett));
+        c.energy_parts.extend(rows.iter().map(|r| r.energy_parts));
     }
+    c
 }
 
 /// What a batch run keeps of each simulation.

@@ -573,7 +573,7 @@ impl PlayTop {
                 let k1 = cross(k.gamma, b1)[2];
                 let n = (self.g + self.s * k0) / (p.inv_m - self.s * k1);
                 let wdot = add(b0, scale(n, b1));
-                let n_m = n / self.m;
+                let n_m = n * p.inv_m;
                 let vdot = [n_m * f_s[0], n_m * f_s[1], n_m * f_s[2] - self.g];
                 (
                     Contact {

@@ -11,7 +11,8 @@ use crate::error::{KreiselError, Result};
 use crate::integrate::{
     Dop853, EventSpec, IntegrateError, Locator, Observer, OdeSystem, Recorder, Stats, WithEvents,
 };
-use crate::models::play_top::{Friction, Mode, PlayTop, DIM};
+use crate::models::play_top::{law, Friction, Mode, PlayTop, RhsConsts, DIM};
+use std::cell::Cell;
 
 /// Settings of a play-top simulation.
 #[derive(Debug, Clone)]
@@ -53,30 +54,65 @@ pub struct PlayOutput {
     pub rhs_evals: u64,
 }
 
-/// The equations of the contact mode with code `M` ([`Mode::code`]): a constant, so that
-/// each mode's right-hand side is compiled without the dispatch on the mode.
-struct ModeSystem<'a, const M: u8> {
+/// The equations of the contact mode with code `M` ([`Mode::code`]), with the resistance
+/// torques when `RES` ([`PlayTop::has_resistance`]) and the friction law `LAW` ([`law`]):
+/// constants, so that each variant's right-hand side is compiled without the dispatch on
+/// them.
+struct ModeSystem<'a, const M: u8, const RES: bool, const LAW: u8> {
     top: &'a PlayTop,
+    consts: RhsConsts,
     dir: [f64; 3],
+    last: &'a Cell<LastRhs>,
 }
 
-impl<const M: u8> OdeSystem<DIM> for ModeSystem<'_, M> {
+/// The last right-hand side evaluated: its time, orientation and normal force. The
+/// integrator evaluates the right-hand side at the (projected) end of every accepted step
+/// just before the events are checked there, so the lift-off event takes that normal force
+/// instead of computing it again. The key is the time and the orientation (the state's
+/// other components are not kept: storing the whole state costs more than it saves); a
+/// stage or root-finding state at the same time has another orientation (a step's last
+/// stage is not projected), so only the step's end state reuses it.
+#[derive(Clone, Copy)]
+struct LastRhs {
+    t: f64,
+    q: [f64; 4],
+    n: f64,
+}
+
+impl LastRhs {
+    const NONE: LastRhs = LastRhs {
+        t: f64::NAN,
+        q: [f64::NAN; 4],
+        n: f64::NAN,
+    };
+}
+
+impl<const M: u8, const RES: bool, const LAW: u8> OdeSystem<DIM> for ModeSystem<'_, M, RES, LAW> {
     #[inline(always)]
-    fn rhs(&self, _t: f64, y: &[f64; DIM], dy: &mut [f64; DIM]) {
-        self.top.dynamics(Mode::from_code(M), y, self.dir, dy);
+    fn rhs(&self, t: f64, y: &[f64; DIM], dy: &mut [f64; DIM]) {
+        let c =
+            self.top
+                .dynamics_with::<RES, LAW>(&self.consts, Mode::from_code(M), y, self.dir, dy);
+        self.last.set(LastRhs {
+            t,
+            q: [y[0], y[1], y[2], y[3]],
+            n: c.n,
+        });
     }
     fn project(&self, y: &mut [f64; DIM]) {
         self.top.project(Mode::from_code(M), y);
     }
 }
 
-/// Integrates one phase in `mode` (see [`ModeSystem`]).
+/// Integrates one phase in `mode` (see [`ModeSystem`]); every right-hand side evaluated is
+/// left in `last`.
 #[allow(clippy::too_many_arguments)]
 fn integrate_phase<O: Observer<DIM>>(
     integrator: &Dop853,
     top: &PlayTop,
     mode: Mode,
     dir: [f64; 3],
+    last: &Cell<LastRhs>,
     t: f64,
     y: [f64; DIM],
     t_end: f64,
@@ -85,10 +121,33 @@ fn integrate_phase<O: Observer<DIM>>(
     const SLIP: u8 = Mode::Slip.code();
     const ROLL: u8 = Mode::Roll.code();
     const FLIGHT: u8 = Mode::Flight.code();
-    match mode {
-        Mode::Slip => integrator.integrate(&ModeSystem::<SLIP> { top, dir }, t, y, t_end, obs),
-        Mode::Roll => integrator.integrate(&ModeSystem::<ROLL> { top, dir }, t, y, t_end, obs),
-        Mode::Flight => integrator.integrate(&ModeSystem::<FLIGHT> { top, dir }, t, y, t_end, obs),
+    let consts = top.rhs_consts();
+    macro_rules! run {
+        ($m:expr, $res:expr, $law:expr) => {
+            integrator.integrate(
+                &ModeSystem::<{ $m }, { $res }, { $law }> {
+                    top,
+                    consts,
+                    dir,
+                    last,
+                },
+                t,
+                y,
+                t_end,
+                obs,
+            )
+        };
+    }
+    // The friction law matters in slip only; tops with resistance torques look it up.
+    match (mode, top.has_resistance(), top.friction.law()) {
+        (Mode::Slip, false, law::VISCOUS) => run!(SLIP, false, law::VISCOUS),
+        (Mode::Slip, false, law::COULOMB) => run!(SLIP, false, law::COULOMB),
+        (Mode::Slip, false, _) => run!(SLIP, false, law::ANY),
+        (Mode::Slip, true, _) => run!(SLIP, true, law::ANY),
+        (Mode::Roll, false, _) => run!(ROLL, false, law::ANY),
+        (Mode::Roll, true, _) => run!(ROLL, true, law::ANY),
+        (Mode::Flight, false, _) => run!(FLIGHT, false, law::ANY),
+        (Mode::Flight, true, _) => run!(FLIGHT, true, law::ANY),
     }
 }
 
@@ -156,7 +215,13 @@ pub fn simulate_play(top: &PlayTop, y0: [f64; DIM], settings: &PlaySettings) -> 
         // Slip speed taken as zero: well above the integration error of the slip itself.
         let eps = (10.0 * settings.rtol).max(1e-10) * top.slip_scale(&top.kin(&y));
         // Mode events (terminal) then watched ones.
-        let mut g_liftoff = |_t: f64, y: &[f64; DIM]| {
+        let last = Cell::new(LastRhs::NONE);
+        let mut g_liftoff = |t: f64, y: &[f64; DIM]| {
+            let c = last.get();
+            if c.t == t && c.q == [y[0], y[1], y[2], y[3]] {
+                // The end of a step, just evaluated by the integrator (see LastRhs).
+                return c.n;
+            }
             let mut dy = [0.0; DIM];
             top.dynamics(mode, y, dir, &mut dy).n
         };
@@ -221,8 +286,10 @@ pub fn simulate_play(top: &PlayTop, y0: [f64; DIM], settings: &PlaySettings) -> 
             .map_or(0, |te| te.len() - seg_times.map_or(0, |s| s.len()));
         let mut rec = Recorder::new(seg_times, None);
         let mut obs = WithEvents::new(locator, &mut rec);
-        let (t1, y1, st) = integrate_phase(&integrator, top, mode, dir, t, y, t_end, &mut obs)
-            .map_err(|e| KreiselError::Numerical(format!("play top, {} mode: {e}", mode.name())))?;
+        let (t1, y1, st) =
+            integrate_phase(&integrator, top, mode, dir, &last, t, y, t_end, &mut obs).map_err(
+                |e| KreiselError::Numerical(format!("play top, {} mode: {e}", mode.name())),
+            )?;
         let hits: Vec<(usize, f64)> = obs.locator.events.iter().map(|e| (e.index, e.t)).collect();
         drop(obs);
         out.steps += st.steps;
@@ -401,7 +468,36 @@ pub fn play_columns(
     mode: &[Mode],
     dir: &[[f64; 3]],
 ) -> PlayColumns {
-    use crate::rotation::euler_from_quaternion;
+    if top.has_resistance() {
+        columns_with::<true>(top, y, mode, dir)
+    } else {
+        columns_with::<false>(top, y, mode, dir)
+    }
+}
+
+/// [`play_columns`], with the resistance torques compiled in when `RES`
+/// ([`PlayTop::dynamics_with`]).
+fn columns_with<const RES: bool>(
+    top: &PlayTop,
+    y: &[[f64; DIM]],
+    mode: &[Mode],
+    dir: &[[f64; 3]],
+) -> PlayColumns {
+    use crate::rotation::euler_from_matrix;
+    // Rows in blocks, then the blocks' columns: pushing to ten columns per row costs more
+    // than the row's arithmetic, and rows for the whole run would be a large allocation.
+    #[derive(Clone, Copy, Default)]
+    struct Row {
+        u: f64,
+        euler: (f64, f64, f64),
+        contact: [f64; 3],
+        slip_velocity: [f64; 3],
+        slip_speed: f64,
+        normal_force: f64,
+        jellett: f64,
+        energy_parts: [f64; 3],
+    }
+    const BLOCK: usize = 128;
     let n = y.len();
     let mut c = PlayColumns {
         u: Vec::with_capacity(n),
@@ -415,37 +511,55 @@ pub fn play_columns(
         jellett: Vec::with_capacity(n),
         energy_parts: Vec::with_capacity(n),
     };
+    let consts = top.rhs_consts();
     let tau = std::f64::consts::TAU;
     let (mut lphi, mut lpsi) = (0.0f64, 0.0f64);
-    for i in 0..n {
-        let y = &y[i];
-        let k = top.kin(y);
-        let (phi, theta, psi) = euler_from_quaternion(k.q.normalized());
-        let (phi, psi) = if i == 0 {
-            (phi, psi)
-        } else {
-            (
-                phi + tau * ((lphi - phi) / tau).round(),
-                psi + tau * ((lpsi - psi) / tau).round(),
-            )
-        };
-        lphi = phi;
-        lpsi = psi;
-        c.u.push(k.u);
-        c.theta.push(theta);
-        c.phi.push(phi);
-        c.psi.push(psi);
-        c.contact
-            .push([y[7] + k.a_s[0], y[8] + k.a_s[1], y[9] + k.a_s[2]]);
-        c.slip_velocity.push(k.v_t);
-        c.slip_speed
-            .push((k.v_t[0] * k.v_t[0] + k.v_t[1] * k.v_t[1]).sqrt());
-        let mut dy = [0.0; DIM];
-        c.normal_force
-            .push(top.dynamics(mode[i], y, dir[i], &mut dy).n);
-        c.jellett.push(top.jellett(y));
-        let (a, b, p) = top.energy_parts(y);
-        c.energy_parts.push([a, b, p]);
+    let mut rows = [Row::default(); BLOCK];
+    for start in (0..n).step_by(BLOCK) {
+        let end = n.min(start + BLOCK);
+        let states = y[start..end]
+            .iter()
+            .zip(&mode[start..end])
+            .zip(&dir[start..end]);
+        for (i, (row, ((y, &mode), &dir))) in (start..).zip(rows.iter_mut().zip(states)) {
+            let k = top.kin(y);
+            let (phi, theta, psi) = euler_from_matrix(k.r);
+            let (phi, psi) = if i == 0 {
+                (phi, psi)
+            } else {
+                (
+                    phi + tau * ((lphi - phi) / tau).round(),
+                    psi + tau * ((lpsi - psi) / tau).round(),
+                )
+            };
+            lphi = phi;
+            lpsi = psi;
+            let mut dy = [0.0; DIM];
+            let (a, b, p) = top.energy_parts(y);
+            *row = Row {
+                u: k.u,
+                euler: (phi, theta, psi),
+                contact: [y[7] + k.a_s[0], y[8] + k.a_s[1], y[9] + k.a_s[2]],
+                slip_velocity: k.v_t,
+                slip_speed: (k.v_t[0] * k.v_t[0] + k.v_t[1] * k.v_t[1]).sqrt(),
+                normal_force: top
+                    .dynamics_with::<RES, { law::ANY }>(&consts, mode, y, dir, &mut dy)
+                    .n,
+                jellett: top.jellett(y),
+                energy_parts: [a, b, p],
+            };
+        }
+        let rows = &rows[..end - start];
+        c.u.extend(rows.iter().map(|r| r.u));
+        c.theta.extend(rows.iter().map(|r| r.euler.1));
+        c.phi.extend(rows.iter().map(|r| r.euler.0));
+        c.psi.extend(rows.iter().map(|r| r.euler.2));
+        c.contact.extend(rows.iter().map(|r| r.contact));
+        c.slip_velocity.extend(rows.iter().map(|r| r.slip_velocity));
+        c.slip_speed.extend(rows.iter().map(|r| r.slip_speed));
+        c.normal_force.extend(rows.iter().map(|r| r.normal_force));
+        c.jellett.extend(rows.iter().map(|r| r.jellett));
+        c.energy_parts.extend(rows.iter().map(|r| r.energy_parts));
     }
     c
 }

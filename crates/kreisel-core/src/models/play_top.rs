@@ -37,6 +37,38 @@ pub enum Friction {
     Frictionless,
 }
 
+impl Friction {
+    /// The law's code in [`law`].
+    pub const fn law(&self) -> u8 {
+        match self {
+            Friction::Coulomb { .. } => law::COULOMB,
+            Friction::Viscous { .. } => law::VISCOUS,
+            Friction::Frictionless => law::FRICTIONLESS,
+        }
+    }
+
+    /// The coefficient mu (0 without friction).
+    pub const fn mu(&self) -> f64 {
+        match *self {
+            Friction::Coulomb { mu } | Friction::Viscous { mu } => mu,
+            Friction::Frictionless => 0.0,
+        }
+    }
+}
+
+/// Codes of the friction laws, for right-hand sides compiled for one law
+/// ([`PlayTop::dynamics_with`]).
+pub mod law {
+    /// Whichever law the top has (looked up on every call).
+    pub const ANY: u8 = 0;
+    /// [`super::Friction::Coulomb`].
+    pub const COULOMB: u8 = 1;
+    /// [`super::Friction::Viscous`].
+    pub const VISCOUS: u8 = 2;
+    /// [`super::Friction::Frictionless`].
+    pub const FRICTIONLESS: u8 = 3;
+}
+
 /// Contact mode.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Mode {
@@ -113,6 +145,27 @@ pub struct Contact {
     pub ft: [f64; 3],
 }
 
+/// The ratios of the parameters that the right-hand side uses, computed once for a whole
+/// integration rather than on every call ([`PlayTop::rhs_consts`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RhsConsts {
+    inv_a: f64,
+    inv_c: f64,
+    inv_m: f64,
+    /// (A - C) / A.
+    euler: f64,
+    /// The friction coefficient.
+    mu: f64,
+}
+
+impl RhsConsts {
+    /// `I^-1 x` (body frame).
+    #[inline(always)]
+    fn inv_inertia(&self, x: [f64; 3]) -> [f64; 3] {
+        [x[0] * self.inv_a, x[1] * self.inv_a, x[2] * self.inv_c]
+    }
+}
+
 /// Kinematic quantities of a state.
 #[derive(Debug, Clone, Copy)]
 pub struct Kin {
@@ -124,6 +177,8 @@ pub struct Kin {
     pub w: [f64; 3],
     /// Upward vertical in the body frame.
     pub gamma: [f64; 3],
+    /// Its rate of change in the body frame, `gamma x omega`.
+    pub gdot: [f64; 3],
     /// G to T in the body frame.
     pub a_b: [f64; 3],
     /// G to T in space.
@@ -155,8 +210,6 @@ impl Kin {
         ]
     }
 }
-
-const EZ: [f64; 3] = [0.0, 0.0, 1.0];
 
 fn add(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
@@ -260,15 +313,25 @@ impl PlayTop {
     }
 
     #[inline(always)]
-    fn inertia(&self) -> [f64; 3] {
-        [self.a, self.a, self.c]
+    fn inv_inertia(&self, x: [f64; 3]) -> [f64; 3] {
+        self.rhs_consts().inv_inertia(x)
     }
 
+    /// The ratios the right-hand side needs (see [`PlayTop::dynamics_with`]).
     #[inline(always)]
-    fn inv_inertia(&self, x: [f64; 3]) -> [f64; 3] {
-        // Reciprocals: inlined calls share them, so a right-hand side divides twice, not six times.
-        let (ia, ic) = (1.0 / self.a, 1.0 / self.c);
-        [x[0] * ia, x[1] * ia, x[2] * ic]
+    pub fn rhs_consts(&self) -> RhsConsts {
+        RhsConsts {
+            inv_a: 1.0 / self.a,
+            inv_c: 1.0 / self.c,
+            inv_m: 1.0 / self.m,
+            euler: (self.a - self.c) / self.a,
+            mu: self.friction.mu(),
+        }
+    }
+
+    /// Whether any resistance torque (rolling, drilling, air) acts.
+    pub fn has_resistance(&self) -> bool {
+        self.rolling > 0.0 || self.drilling > 0.0 || self.air > 0.0
     }
 
     /// Body angular momentum about G.
@@ -298,13 +361,20 @@ impl PlayTop {
             -self.s * r[2][2] - self.rho,
         ];
         let v = [y[10], y[11], y[12]];
-        let wa = cross(w, a_b);
+        // omega x a = rho gdot - s omega x e3, with a = -rho gamma - s e3.
+        let gdot = cross(gamma, w);
+        let wa = [
+            self.rho * gdot[0] - self.s * w[1],
+            self.rho * gdot[1] + self.s * w[0],
+            self.rho * gdot[2],
+        ];
         let v_t = add(v, [dot(r[0], wa), dot(r[1], wa), dot(r[2], wa)]);
         Kin {
             q,
             r,
             w,
             gamma,
+            gdot,
             a_b,
             a_s,
             v,
@@ -341,13 +411,19 @@ impl PlayTop {
         (per_n, scale(-self.air, k.w))
     }
 
-    /// The tangential force per unit N while slipping (space frame).
+    /// The tangential force per unit N while slipping (space frame), by the friction law
+    /// `LAW` (see [`PlayTop::dynamics_with`]).
     #[inline(always)]
-    fn slip_force_per_n(&self, k: &Kin, dir: [f64; 3]) -> [f64; 3] {
-        match self.friction {
-            Friction::Frictionless => [0.0; 3],
-            Friction::Viscous { mu } => [-mu * k.v_t[0], -mu * k.v_t[1], 0.0],
-            Friction::Coulomb { mu } => {
+    fn slip_force_per_n<const LAW: u8>(&self, p: &RhsConsts, k: &Kin, dir: [f64; 3]) -> [f64; 3] {
+        let law = if LAW == law::ANY {
+            self.friction.law()
+        } else {
+            LAW
+        };
+        let mu = p.mu;
+        match law {
+            law::VISCOUS => [-mu * k.v_t[0], -mu * k.v_t[1], 0.0],
+            law::COULOMB => {
                 let sp = (k.v_t[0] * k.v_t[0] + k.v_t[1] * k.v_t[1]).sqrt();
                 if sp > 0.0 {
                     [-mu * k.v_t[0] / sp, -mu * k.v_t[1] / sp, 0.0]
@@ -357,6 +433,7 @@ impl PlayTop {
                     [-mu * dir[0], -mu * dir[1], 0.0]
                 }
             }
+            _ => [0.0; 3],
         }
     }
 
@@ -438,35 +515,65 @@ impl PlayTop {
         dir: [f64; 3],
         dy: &mut [f64; DIM],
     ) -> Contact {
+        self.dynamics_with::<true, { law::ANY }>(&self.rhs_consts(), mode, y, dir, dy)
+    }
+
+    /// [`PlayTop::dynamics`] with the ratios `p` of [`PlayTop::rhs_consts`] given, the
+    /// resistance torques left out of the code when `RES` is false (for a top without them,
+    /// [`PlayTop::has_resistance`] false) and the friction law `LAW` ([`law`]) compiled in
+    /// (the top's own, or [`law::ANY`]). The result is the same as [`PlayTop::dynamics`]'s.
+    #[inline(always)]
+    pub fn dynamics_with<const RES: bool, const LAW: u8>(
+        &self,
+        p: &RhsConsts,
+        mode: Mode,
+        y: &[f64; DIM],
+        dir: [f64; 3],
+        dy: &mut [f64; DIM],
+    ) -> Contact {
+        debug_assert!(RES || !self.has_resistance());
+        debug_assert!(LAW == law::ANY || LAW == self.friction.law());
         let k = self.kin(y);
-        let inertia = self.inertia();
-        let iw = [
-            inertia[0] * k.w[0],
-            inertia[1] * k.w[1],
-            inertia[2] * k.w[2],
-        ];
-        let gyro = cross(k.w, iw); // omega x I omega
-        let (res_n, res_0) = self.resistance(&k);
-        let free_torque = [res_0[0] - gyro[0], res_0[1] - gyro[1], res_0[2] - gyro[2]];
-        let (contact, wdot, vdot) = match mode {
-            Mode::Flight => {
-                let wdot = self.inv_inertia(free_torque);
-                (Contact::default(), wdot, [0.0, 0.0, -self.g])
+        // I^-1 of the torque without the contact force: -omega x I omega, which for a
+        // symmetric top (Euler's equations) is ((A - C) w2 w3, (C - A) w1 w3, 0), plus the
+        // resistance torque that does not scale with N; `res_n` is the part per unit N.
+        // (Its axial part -0.0: adding it is the identity, which the compiler drops.)
+        let euler = [p.euler * k.w[1] * k.w[2], -p.euler * k.w[0] * k.w[2], -0.0];
+        let (res_n, res_0) = if RES {
+            self.resistance(&k)
+        } else {
+            ([0.0; 3], [0.0; 3])
+        };
+        let b0 = if RES {
+            add(p.inv_inertia(res_0), euler)
+        } else {
+            euler
+        };
+        // The torque about G of a contact force f (body frame), with the resistance torque
+        // per unit N of its normal part `fn_`.
+        let contact_torque = |f: [f64; 3], fn_: f64| {
+            let t = cross(k.a_b, f);
+            if RES {
+                add(t, scale(fn_, res_n))
+            } else {
+                t
             }
+        };
+        let (contact, wdot, vdot) = match mode {
+            Mode::Flight => (Contact::default(), b0, [0.0, 0.0, -self.g]),
             Mode::Slip => {
                 // F = N f with f = ez + (tangential force per unit N); N from the constraint
                 // that T stays on the floor: N/m - g - s d2u/dt2 = 0, affine in N.
-                let f_s = add(EZ, self.slip_force_per_n(&k, dir));
+                let f_t = self.slip_force_per_n::<LAW>(p, &k, dir);
+                let f_s = [f_t[0], f_t[1], 1.0];
                 let f_b = k.to_body(f_s);
-                let t1 = add(cross(k.a_b, f_b), res_n);
-                let b1 = self.inv_inertia(t1);
-                let b0 = self.inv_inertia(free_torque);
-                let gdot = cross(k.gamma, k.w);
-                let k0 = cross(gdot, k.w)[2] + cross(k.gamma, b0)[2];
+                let t1 = contact_torque(f_b, 1.0);
+                let b1 = p.inv_inertia(t1);
+                let k0 = cross(k.gdot, k.w)[2] + cross(k.gamma, b0)[2];
                 let k1 = cross(k.gamma, b1)[2];
-                let n = (self.g + self.s * k0) / (1.0 / self.m - self.s * k1);
+                let n = (self.g + self.s * k0) / (p.inv_m - self.s * k1);
                 let wdot = add(b0, scale(n, b1));
-                let n_m = n / self.m;
+                let n_m = n * p.inv_m;
                 let vdot = [n_m * f_s[0], n_m * f_s[1], n_m * f_s[2] - self.g];
                 (
                     Contact {
@@ -480,11 +587,10 @@ impl PlayTop {
             Mode::Roll => {
                 // The rolling constraint v_T = 0 differentiated (body frame):
                 // F/m - g Gamma + wdot x a - s omega x (omega x e3) = 0, with
-                // wdot = I^-1 (a x F + (F.Gamma) res_n + free_torque): linear in F.
-                let b0 = self.inv_inertia(free_torque);
+                // wdot = I^-1 (a x F + (F.Gamma) res_n) + b0: linear in F.
                 let map = |f: [f64; 3]| {
-                    let t = add(cross(k.a_b, f), scale(dot(f, k.gamma), res_n));
-                    add(scale(1.0 / self.m, f), cross(self.inv_inertia(t), k.a_b))
+                    let t = contact_torque(f, dot(f, k.gamma));
+                    add(scale(p.inv_m, f), cross(p.inv_inertia(t), k.a_b))
                 };
                 let cols = [
                     map([1.0, 0.0, 0.0]),
@@ -504,8 +610,8 @@ impl PlayTop {
                 let f_b = solve3(mat, rhs);
                 let n = dot(f_b, k.gamma);
                 let f_s = k.to_space(f_b);
-                let t = add(cross(k.a_b, f_b), scale(n, res_n));
-                let wdot = add(self.inv_inertia(t), b0);
+                let t = contact_torque(f_b, n);
+                let wdot = add(p.inv_inertia(t), b0);
                 let vdot = [f_s[0] / self.m, f_s[1] / self.m, f_s[2] / self.m - self.g];
                 (
                     Contact {
@@ -529,12 +635,11 @@ impl PlayTop {
         } else {
             0.0
         };
-        let p_res = if self.rolling > 0.0 || self.drilling > 0.0 || self.air > 0.0 {
-            dot(add(scale(contact.n, res_n), res_0), k.w)
+        dy[13] = if RES && self.has_resistance() {
+            -(p_friction + dot(add(scale(contact.n, res_n), res_0), k.w))
         } else {
-            0.0
+            -p_friction
         };
-        dy[13] = -(p_friction + p_res);
         contact
     }
 

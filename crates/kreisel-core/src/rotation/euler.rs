@@ -30,7 +30,11 @@ pub fn omega_body_from_euler(
 /// (phi, theta, psi) of a unit quaternion, phi and psi in (-pi, pi]. At theta = 0 (or pi)
 /// only phi + psi (or phi - psi) is defined; psi is then set to 0.
 pub fn euler_from_quaternion(q: Quat) -> (f64, f64, f64) {
-    let m = q.matrix();
+    euler_from_matrix(q.matrix())
+}
+
+/// (phi, theta, psi) of a rotation matrix (row-major), as [`euler_from_quaternion`].
+pub fn euler_from_matrix(m: [[f64; 3]; 3]) -> (f64, f64, f64) {
     let s = (m[0][2] * m[0][2] + m[1][2] * m[1][2]).sqrt();
     let theta = s.atan2(m[2][2]);
     if s > 1e-12 {

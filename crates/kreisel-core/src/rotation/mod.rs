@@ -5,7 +5,9 @@
 mod euler;
 mod quaternion;
 
-pub use euler::{euler_from_quaternion, omega_body_from_euler, quaternion_from_euler};
+pub use euler::{
+    euler_from_matrix, euler_from_quaternion, omega_body_from_euler, quaternion_from_euler,
+};
 pub use quaternion::Quat;
 
 /// `a x b`.

@@ -283,6 +283,20 @@ impl<const N: usize> Observer<N> for EveryStep<N> {
     }
 }
 
+/// `a * b + c`: one fused multiply-add (one rounding) where the build targets FMA
+/// (x86-64-v3), else a product and a sum. Never the software `mul_add` of a CPU without it.
+#[inline(always)]
+pub(crate) fn fmadd(a: f64, b: f64, c: f64) -> f64 {
+    #[cfg(target_feature = "fma")]
+    {
+        a.mul_add(b, c)
+    }
+    #[cfg(not(target_feature = "fma"))]
+    {
+        a * b + c
+    }
+}
+
 /// Whether every component is finite.
 #[inline]
 pub(crate) fn all_finite<const N: usize>(y: &[f64; N]) -> bool {

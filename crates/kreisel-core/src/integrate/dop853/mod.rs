@@ -33,7 +33,7 @@ use std::cell::{Cell, RefCell};
 use std::ops::ControlFlow;
 
 use self::coefficients as co;
-use super::{all_finite, Dense, IntegrateError, Observer, OdeSystem, Stats};
+use super::{all_finite, fmadd, Dense, IntegrateError, Observer, OdeSystem, Stats};
 
 /// Safety factor of the step-size controller (`dop853.f`: `SAFE`).
 const SAFETY: f64 = 0.9;
@@ -210,7 +210,7 @@ impl<const N: usize> Dop853Work<N> {
                 }
                 let kj = if j < 13 { &self.k[j] } else { &c.kx[j - 13] };
                 for i in 0..N {
-                    acc[i] += d * kj[i];
+                    acc[i] = fmadd(d, kj[i], acc[i]);
                 }
             }
             for i in 0..N {
@@ -522,7 +522,7 @@ impl Dop853 {
                     let cj: f64 = $coef[$j];
                     if cj != 0.0 {
                         for i in 0..N {
-                            acc[i] += cj * k[$j][i];
+                            acc[i] = fmadd(cj, k[$j][i], acc[i]);
                         }
                     }
                 )*
@@ -533,7 +533,7 @@ impl Dop853 {
             ($s:literal; $($j:literal)*) => {{
                 let acc = combo!(co::A[$s]; $($j)*);
                 for i in 0..N {
-                    ys[i] = y[i] + h * acc[i];
+                    ys[i] = fmadd(h, acc[i], y[i]);
                 }
                 // No finiteness check per stage: every stage feeds y_new or the error
                 // estimate, which are checked below (a NaN there rejects the step).
@@ -557,7 +557,7 @@ impl Dop853 {
         let mut y_new = [0.0; N];
         let mut e3 = [0.0; N];
         for i in 0..N {
-            y_new[i] = y[i] + h * acc[i];
+            y_new[i] = fmadd(h, acc[i], y[i]);
             e3[i] = acc[i] - bhh[i];
         }
         finite &= all_finite(&y_new);

@@ -20,3 +20,17 @@ pub mod special;
 pub mod stability;
 
 pub use error::{KreiselError, Result};
+
+/// `a * b + c`: one fused multiply-add (one rounding) where the build targets FMA
+/// (x86-64-v3), else a product and a sum. Never the software `mul_add` of a CPU without it.
+#[inline(always)]
+pub(crate) fn fmadd(a: f64, b: f64, c: f64) -> f64 {
+    #[cfg(target_feature = "fma")]
+    {
+        a.mul_add(b, c)
+    }
+    #[cfg(not(target_feature = "fma"))]
+    {
+        a * b + c
+    }
+}

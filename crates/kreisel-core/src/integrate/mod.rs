@@ -48,6 +48,7 @@
 //! assert!(stats.steps > 0);
 //! ```
 
+pub(crate) use crate::fmadd;
 use std::fmt;
 use std::ops::ControlFlow;
 
@@ -280,20 +281,6 @@ impl<const N: usize> Observer<N> for EveryStep<N> {
         self.ts.push(t);
         self.ys.push(*y);
         ControlFlow::Continue(())
-    }
-}
-
-/// `a * b + c`: one fused multiply-add (one rounding) where the build targets FMA
-/// (x86-64-v3), else a product and a sum. Never the software `mul_add` of a CPU without it.
-#[inline(always)]
-pub(crate) fn fmadd(a: f64, b: f64, c: f64) -> f64 {
-    #[cfg(target_feature = "fma")]
-    {
-        a.mul_add(b, c)
-    }
-    #[cfg(not(target_feature = "fma"))]
-    {
-        a * b + c
     }
 }
 

@@ -23,7 +23,7 @@ pub fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
 /// `a . b`.
 #[inline(always)]
 pub fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+    crate::fmadd(a[0], b[0], crate::fmadd(a[1], b[1], a[2] * b[2]))
 }
 
 /// Euclidean norm.

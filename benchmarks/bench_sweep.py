@@ -1,6 +1,6 @@
 """Benchmark S1: a sweep of 10^4 play-top runs, locally on 1 and 2 cores and through Dask.
 
-    python benchmarks/bench_sweep.py [--runs N] [--t-end T] [--chunk C]
+    python benchmarks/bench_sweep.py [--runs N] [--t-end T] [--chunk C] [--rounds R]
 
 A tippe top (case T1's top: m = 0.02 kg, rho = 0.02 m, s = 0.006 m, C = 0.4 m rho^2,
 A = 0.8 C, viscous friction mu = 1 s/m) swept on a square grid of theta (2.8 to 3.1 rad)
@@ -18,13 +18,14 @@ one run, with time.perf_counter:
   `kreisel worker` start it (Dask's profiler off, slow event-loop ticks), and with Dask's
   default settings (`dask scheduler`, `dask worker`), for comparison.
 
-Each is run --repeats times (default 5) and the best time kept. First the local runs on 1
-and 2 cores, interleaved, with no cluster (its idle processes would share the CPU): the
-scaling. Then, with the cluster started, local 2-core runs and Dask runs interleaved: the
-Dask overhead is measured against local runs beside the same (idle) cluster, so both see
-the same machine; then the same with the other cluster. The store chunks hold 1000 runs (10 chunks,
-so 80 writes), each cut into 4 tasks of 250 runs. The three datasets must agree bit for
-bit.
+The machine's speed changes from second to second, so the comparisons are made in paired
+rounds (--rounds, default 7): each round times one of each, one right after the other, and
+the result is the median over the rounds of their ratio (the best times are reported too).
+First the local runs on 1 and 2 cores, with no cluster (its idle processes would share the
+CPU): the scaling. Then, with a cluster started, a local 2-core run and a Dask run per
+round: the Dask overhead, against local runs beside the same idle cluster; then the same
+with the other cluster. The store chunks hold 1000 runs (10 chunks, so 80 writes), each
+cut into 4 tasks of 250 runs. All the datasets must agree bit for bit.
 Result: benchmarks/results-sweep.json.
 """
 
@@ -128,7 +129,7 @@ def main(argv=None):
     parser.add_argument("--runs", type=int, default=10_000)
     parser.add_argument("--t-end", type=float, default=3.0)
     parser.add_argument("--chunk", type=int, default=1000)
-    parser.add_argument("--repeats", type=int, default=5)
+    parser.add_argument("--rounds", type=int, default=7)
     args = parser.parse_args(argv)
     from distributed import Client
 
@@ -153,15 +154,23 @@ def main(argv=None):
         finally:
             os.sched_setaffinity(0, cores)
 
-    t1 = t2 = math.inf
-    clusters = {}  # tuned or not: (local beside it, Dask, start-up)
+    def rounds(first, second):
+        """Paired rounds, `first` then `second` in each: the best time of each, the median
+        over the rounds of second / first (each pair sees the same state of the machine),
+        the ratios, and the last results."""
+        a, b, ratios = [], [], []
+        for _ in range(args.rounds):
+            (s1, out1), (s2, out2) = first(), second()
+            a.append(s1)
+            b.append(s2)
+            ratios.append(s2 / s1)
+        return min(a), min(b), float(np.median(ratios)), ratios, out1, out2
+
+    clusters = {}  # tuned or not: (local beside it, Dask, median ratio, ratios, start-up)
     dask_runs = []
     try:
-        for _ in range(args.repeats):  # interleaved, best of each
-            s, one = one_core()
-            t1 = min(t1, s)
-            s, two = run("two", threads=2)
-            t2 = min(t2, s)
+        run("two", threads=2)  # warm-up: first-call costs are not what we measure
+        t2, t1, scaling, scalings, two, one = rounds(lambda: run("two", threads=2), one_core)
         # the clusters only now: their idle processes would take CPU from the local runs
         for tuned in (True, False):
             start = time.perf_counter()
@@ -169,14 +178,11 @@ def main(argv=None):
                 warm = kreisel.SweepSpec.from_tables(spec(16, 0.1, 4))
                 kreisel.sweep(warm, None, client, progress=False)
                 startup = time.perf_counter() - start
-                t2c = td = math.inf
-                for _ in range(args.repeats):  # interleaved with local runs beside the cluster
-                    s, _ = run("two", threads=2)
-                    t2c = min(t2c, s)
-                    s, dk = run("dask", scheduler=client)
-                    td = min(td, s)
-                    dask_runs.append(dk)
-            clusters[tuned] = (t2c, td, startup)
+                t2c, td, ratio, ratios, _, dk = rounds(
+                    lambda: run("two", threads=2), lambda: run("dask", scheduler=client)
+                )
+                dask_runs.append(dk)
+            clusters[tuned] = (t2c, td, ratio, ratios, startup)
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
     for name in one.data_vars:
@@ -184,39 +190,50 @@ def main(argv=None):
             a, b = one[name].values, other[name].values
             if not np.array_equal(a, b, equal_nan=a.dtype.kind == "f"):
                 raise SystemExit(f"{name} differs between the runs: not bit for bit")
-    (t2c, td, startup), (t2d, tdd, _) = clusters[True], clusters[False]
+    (t2c, td, ratio, ratios, startup) = clusters[True]
+    (t2d, tdd, ratio_d, ratios_d, _) = clusters[False]
     inverted = int(np.isfinite(one["inversion_time"].values).sum())
     res = {
         "case": CASE,
         "runs": sp.size,
         "chunks": sp.n_chunks,
         "t_end": args.t_end,
-        "local_1_core_s": t1,
-        "local_2_cores_s": t2,
-        "dask_2_workers_s": td,
+        "rounds": args.rounds,
+        "local_1_core_best_s": t1,
+        "local_2_cores_best_s": t2,
+        "scaling": scaling,
+        "scaling_rounds": scalings,
+        "local_2_cores_beside_cluster_best_s": t2c,
+        "dask_2_workers_best_s": td,
         "dask_startup_s": startup,
-        "repeats": args.repeats,
-        "scaling": t1 / t2,
-        "local_2_cores_beside_cluster_s": t2c,
-        "dask_overhead": td / t2c - 1,
-        "dask_defaults_2_workers_s": tdd,
-        "local_2_cores_beside_dask_defaults_s": t2d,
-        "dask_defaults_overhead": tdd / t2d - 1,
+        "dask_overhead": ratio - 1,
+        "dask_overhead_rounds": [r - 1 for r in ratios],
+        "local_2_cores_beside_dask_defaults_best_s": t2d,
+        "dask_defaults_2_workers_best_s": tdd,
+        "dask_defaults_overhead": ratio_d - 1,
+        "dask_defaults_overhead_rounds": [r - 1 for r in ratios_d],
         "bit_for_bit": True,
         "inverted": inverted,
         "steps_mean": float(one["steps"].values.mean()),
     }
     OUT.write_text(json.dumps(res, indent=2))
     print(f"S1: {sp.size} play-top runs of {args.t_end} s in {sp.n_chunks} chunks")
+
+    def spread(rs):
+        return f"rounds {100 * (min(rs) - 1):+.1f} to {100 * (max(rs) - 1):+.1f} %"
+
+    print(f"  {args.rounds} paired rounds; best times, and the median of the rounds' ratios")
     print(f"  local, 1 core     {t1:8.2f} s")
-    print(f"  local, 2 cores    {t2:8.2f} s   scaling {t1 / t2:.2f}x")
+    print(f"  local, 2 cores    {t2:8.2f} s   scaling {scaling:.2f}x "
+          f"(rounds {min(scalings):.2f}-{max(scalings):.2f}x)")  # fmt: skip
     print("  Dask, 2 workers, started by kreisel scheduler / kreisel worker:")
     print(f"    local, 2 cores, the idle cluster beside it {t2c:8.2f} s")
-    print(f"    Dask                {td:8.2f} s   overhead {100 * (td / t2c - 1):+.1f} % against "
-          f"that (cluster start-up {startup:.1f} s, not counted)")  # fmt: skip
+    print(f"    Dask                {td:8.2f} s   overhead {100 * (ratio - 1):+.1f} % "
+          f"({spread(ratios)}; cluster start-up {startup:.1f} s, not counted)")  # fmt: skip
     print("  the same with Dask's default settings (dask scheduler / dask worker):")
     print(f"    local, 2 cores, the idle cluster beside it {t2d:8.2f} s")
-    print(f"    Dask                {tdd:8.2f} s   overhead {100 * (tdd / t2d - 1):+.1f} %")
+    print(f"    Dask                {tdd:8.2f} s   overhead {100 * (ratio_d - 1):+.1f} % "
+          f"({spread(ratios_d)})")  # fmt: skip
     print(f"  bit for bit equal: yes; {inverted} of {sp.size} tops turned over")
     return res
 

@@ -524,6 +524,32 @@ def test_exact_lagrange_sweep_maps_the_kinds_of_motion(tmp_path):
         kreisel.sweep({**tables, "output": {"keep": ["steps"]}}, None, progress=False)
 
 
+def test_tasks_shrink_toward_the_end_of_a_sweep_and_cover_every_run_once():
+    from kreisel import _sweep
+
+    tables = play_spec(grid={"psi_dot": {"start": 50.0, "stop": 250.0, "num": 2500}},
+                       output={"chunk": 1000})  # fmt: skip
+    tables["top"]["s"] = S
+    sp = _sweep.load_spec(tables)
+    tasks = _sweep._tasks(sp, [0, 1, 2], {}, lanes=2)
+    sizes = [len(t[4]["psi_dot"]) for t in tasks]
+    assert sum(sizes) == 2500 and max(sizes) == _sweep.TASK_RUNS
+    # guided: each task at most an eighth (2 lanes) of what was left, down to TAIL_RUNS
+    left = 2500
+    for size in sizes:
+        assert size <= max(_sweep.TAIL_RUNS, -(-left // 8))
+        left -= size
+    assert sizes[-2] == _sweep.TAIL_RUNS and sizes[-1] <= _sweep.TAIL_RUNS
+    # every run once, in order, each chunk's parts numbered from 0 with their offsets
+    for k in range(3):
+        mine = [t for t in tasks if t[0] == k]
+        assert [t[1] for t in mine] == list(range(mine[0][2]))
+        got = np.concatenate([t[4]["psi_dot"] for t in mine])
+        assert np.array_equal(got, sp.chunk_values(k, {})["psi_dot"])
+        offsets = np.cumsum([0] + [len(t[4]["psi_dot"]) for t in mine])[:-1]
+        assert [t[3] for t in mine] == list(offsets)
+
+
 def test_a_chunk_split_into_tasks_gives_the_same_store(tmp_path, monkeypatch):
     from kreisel import _sweep
 
@@ -535,7 +561,7 @@ def test_a_chunk_split_into_tasks_gives_the_same_store(tmp_path, monkeypatch):
     whole = kreisel.sweep(tables, tmp_path / "whole.zarr", progress=False)
     monkeypatch.setattr(_sweep, "TASK_RUNS", 3)  # one chunk of 8 runs in 3 tasks
     assert [len(t[4]["psi_dot"]) for t in _sweep._tasks(_sweep.load_spec(tables), [0], {})] == [
-        3, 2, 3,
+        3, 3, 2,
     ]  # fmt: skip
     split = kreisel.sweep(tables, tmp_path / "split.zarr", progress=False)
     assert_same(whole, split)

@@ -995,18 +995,26 @@ def sweep(
 
 
 TASK_RUNS = 256  # at most this many runs per task: a store chunk may be split into tasks
+TAIL_RUNS = 16  # the least: toward the end of a sweep the tasks shrink to this size
 
 
-def _tasks(sp: SweepSpec, todo: list, samples: dict) -> list:
-    """(chunk, part, values) for every task: each chunk's runs (C order within its block)
-    cut into contiguous parts of at most TASK_RUNS, so a large store chunk (few writes)
-    still spreads over many cores and leaves a short tail."""
+def _tasks(sp: SweepSpec, todo: list, samples: dict, lanes: int = 1) -> list:
+    """(chunk, part, parts, offset, values) for every task: each chunk's runs (C order within
+    its block) cut into contiguous parts, so a large store chunk (few writes) still spreads
+    over many cores. A part takes at most TASK_RUNS runs and at most a 1/(4 lanes) share of
+    the runs not yet handed out, but no fewer than TAIL_RUNS (guided scheduling): the last
+    tasks of a sweep are short, so the `lanes` cores or workers finish together."""
+    chunks = [(k, sp.chunk_values(k, samples)) for k in todo]
+    left = sum(len(next(iter(v.values()))) for _, v in chunks)
     out = []
-    for k in todo:
-        values = sp.chunk_values(k, samples)
+    for k, values in chunks:
         n = len(next(iter(values.values())))
-        parts = -(-n // TASK_RUNS)
-        bounds = [round(j * n / parts) for j in range(parts + 1)]
+        bounds = [0]
+        while bounds[-1] < n:
+            size = min(TASK_RUNS, max(TAIL_RUNS, -(-left // (4 * lanes))), n - bounds[-1])
+            bounds.append(bounds[-1] + size)
+            left -= size
+        parts = len(bounds) - 1
         for j in range(parts):
             a, b = bounds[j], bounds[j + 1]
             out.append((k, j, parts, a, {name: v[a:b] for name, v in values.items()}))
@@ -1028,7 +1036,11 @@ def _results(sp: SweepSpec, payload: dict, todo: list, samples: dict, client, th
     stops (an exception, an interrupt)."""
     if not todo:
         return
-    tasks = _tasks(sp, todo, samples)
+    if client is None:
+        cores = threads or os.cpu_count() or 1
+    else:
+        cores = max(1, sum(client.nthreads().values()))
+    tasks = _tasks(sp, todo, samples, cores)
     done: dict = {}
 
     def finished(task, result):
@@ -1046,7 +1058,6 @@ def _results(sp: SweepSpec, payload: dict, todo: list, samples: dict, client, th
         # core's batch runs, so one task's set-up in Python overlaps the others' runs);
         # fewer tasks than cores: the cores are shared out inside each task instead.
         # (Two tasks each on every core was measured slower: two pools on two cores.)
-        cores = threads or os.cpu_count() or 1
         lanes = max(1, min(cores, len(tasks)))
         inner = max(1, cores // lanes)
         with ThreadPoolExecutor(lanes) as pool:

@@ -13,7 +13,8 @@ A sweep spec has the tables of a ``kreisel run`` file ([top], [state], [simulati
 ``[output]``
     ``keep``: the per-run summaries to store (default: all of the model's but
     ``lyapunov``); ``chunk``: runs per store chunk (default 256; a chunk is computed as
-    tasks of at most 256 runs); ``inversion_level`` (play tops, default 0.9);
+    tasks of at most 256 runs, shorter toward the end of the sweep so that the cores finish
+    together); ``inversion_level`` (play tops, default 0.9);
     ``lyapunov_tau`` (heavy tops keeping ``lyapunov``: the renormalisation interval, s).
 
 With ``[simulation] exact = true`` a Lagrange-top sweep keeps the analysis of each state

@@ -18,6 +18,24 @@ def best_of(fn, repeats):
     return best, out
 
 
+def cpu_counters():
+    """The machine's CPU time counters (/proc/stat, first line), None where there are none."""
+    try:
+        with open("/proc/stat") as f:
+            return [int(x) for x in f.readline().split()[1:9]]
+    except (OSError, ValueError):
+        return None
+
+
+def steal_share(before, after):
+    """The share of CPU time the hypervisor took from this VM between two cpu_counters()
+    (steal time): a measure of how noisy a timing was. None where unknown."""
+    if before is None or after is None:
+        return None
+    d = [b - a for a, b in zip(before, after)]
+    return d[7] / sum(d) if sum(d) > 0 else 0.0
+
+
 def paired(fast, slow, rounds):
     """Interleaved timing of a fast and a slow implementation on a noisy machine.
 
@@ -31,6 +49,7 @@ def paired(fast, slow, rounds):
     """
     ratios, best_fast, best_slow = [], math.inf, math.inf
     fast_out = slow_out = None
+    counters = cpu_counters()
     for _ in range(rounds):
         start = time.perf_counter()
         slow_out = slow()
@@ -50,6 +69,7 @@ def paired(fast, slow, rounds):
         "fast_s": best_fast,
         "slow_s": best_slow,
         "best_ratio": best_slow / best_fast,
+        "steal": steal_share(counters, cpu_counters()),
         "fast_out": fast_out,
         "slow_out": slow_out,
     }
@@ -62,6 +82,8 @@ def paired_summary(timing, rounds, peer):
         f"kreisel is {timing['ratio']:.0f}x faster than {peer} (median of the rounds' ratios; "
         f"rounds {min(r):.0f}-{max(r):.0f}x, best times {timing['best_ratio']:.0f}x)"
     )
+    if timing["steal"] is not None:
+        line += f"; steal time {100 * timing['steal']:.1f} % of the CPU"
     fields = {
         "rounds": rounds,
         "kreisel_best_s": timing["fast_s"],
@@ -69,6 +91,7 @@ def paired_summary(timing, rounds, peer):
         "speedup": timing["ratio"],
         "speedup_rounds": r,
         "speedup_best_times": timing["best_ratio"],
+        "steal_share": timing["steal"],
     }
     return line, fields
 

@@ -46,6 +46,7 @@ import time
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 import numpy as np
+from _common import cpu_counters, steal_share
 
 import kreisel
 
@@ -166,6 +167,7 @@ def main(argv=None):
             ratios.append(s2 / s1)
         return min(a), min(b), float(np.median(ratios)), ratios, out1, out2
 
+    counters = cpu_counters()
     clusters = {}  # tuned or not: (local beside it, Dask, median ratio, ratios, start-up)
     dask_runs = []
     try:
@@ -190,6 +192,7 @@ def main(argv=None):
             a, b = one[name].values, other[name].values
             if not np.array_equal(a, b, equal_nan=a.dtype.kind == "f"):
                 raise SystemExit(f"{name} differs between the runs: not bit for bit")
+    steal = steal_share(counters, cpu_counters())
     (t2c, td, ratio, ratios, startup) = clusters[True]
     (t2d, tdd, ratio_d, ratios_d, _) = clusters[False]
     inverted = int(np.isfinite(one["inversion_time"].values).sum())
@@ -212,6 +215,7 @@ def main(argv=None):
         "dask_defaults_2_workers_best_s": tdd,
         "dask_defaults_overhead": ratio_d - 1,
         "dask_defaults_overhead_rounds": [r - 1 for r in ratios_d],
+        "steal_share": steal,
         "bit_for_bit": True,
         "inverted": inverted,
         "steps_mean": float(one["steps"].values.mean()),
@@ -234,6 +238,8 @@ def main(argv=None):
     print(f"    local, 2 cores, the idle cluster beside it {t2d:8.2f} s")
     print(f"    Dask                {tdd:8.2f} s   overhead {100 * (ratio_d - 1):+.1f} % "
           f"({spread(ratios_d)})")  # fmt: skip
+    if steal is not None:
+        print(f"  steal time (the hypervisor's share of the CPU) throughout: {100 * steal:.1f} %")
     print(f"  bit for bit equal: yes; {inverted} of {sp.size} tops turned over")
     return res
 

@@ -19,7 +19,8 @@ one run, with time.perf_counter:
   default settings (`dask scheduler`, `dask worker`), for comparison.
 
 The machine's speed changes from second to second, so the comparisons are made in paired
-rounds (--rounds, default 7): each round times one of each, one right after the other, and
+rounds (--rounds, default 7): each round times one of each, one right after the other (in
+alternating order, so that an effect of the order cancels), and
 the result is the median over the rounds of their ratio (the best times are reported too).
 First the local runs on 1 and 2 cores, with no cluster (its idle processes would share the
 CPU): the scaling. Then, with a cluster started, a local 2-core run and a Dask run per
@@ -156,12 +157,16 @@ def main(argv=None):
             os.sched_setaffinity(0, cores)
 
     def rounds(first, second):
-        """Paired rounds, `first` then `second` in each: the best time of each, the median
-        over the rounds of second / first (each pair sees the same state of the machine),
-        the ratios, and the last results."""
+        """Paired rounds of `first` and `second`, in alternating order (so that an effect of
+        the order, such as a host that slows a VM under sustained load, cancels): the best
+        time of each, the median over the rounds of second / first (each pair sees the
+        same state of the machine), the ratios, and the last results."""
         a, b, ratios = [], [], []
-        for _ in range(args.rounds):
-            (s1, out1), (s2, out2) = first(), second()
+        for i in range(args.rounds):
+            if i % 2 == 0:
+                (s1, out1), (s2, out2) = first(), second()
+            else:
+                (s2, out2), (s1, out1) = second(), first()
             a.append(s1)
             b.append(s2)
             ratios.append(s2 / s1)

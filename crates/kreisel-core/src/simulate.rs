@@ -641,7 +641,7 @@ pub fn columns(top: &HeavyTop, states: &[RigidState]) -> Columns {
 
 /// The representative of `angle` (mod 2 pi) nearest to `last`.
 #[inline]
-fn unwrap(last: f64, angle: f64) -> f64 {
+pub(crate) fn unwrap(last: f64, angle: f64) -> f64 {
     let tau = std::f64::consts::TAU;
     let turns = (last - angle) / tau;
     // Mostly no turn: skip the rounding call (`angle + tau * 0.0` is `angle + 0.0`).

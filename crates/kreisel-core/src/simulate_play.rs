@@ -484,6 +484,7 @@ fn columns_with<const RES: bool>(
     dir: &[[f64; 3]],
 ) -> PlayColumns {
     use crate::rotation::euler_from_matrix;
+    use crate::simulate::unwrap;
     // Rows in blocks, then the blocks' columns: pushing to ten columns per row costs more
     // than the row's arithmetic, and rows for the whole run would be a large allocation.
     #[derive(Clone, Copy, Default)]
@@ -512,7 +513,6 @@ fn columns_with<const RES: bool>(
         energy_parts: Vec::with_capacity(n),
     };
     let consts = top.rhs_consts();
-    let tau = std::f64::consts::TAU;
     let (mut lphi, mut lpsi) = (0.0f64, 0.0f64);
     let mut rows = [Row::default(); BLOCK];
     for start in (0..n).step_by(BLOCK) {
@@ -527,10 +527,7 @@ fn columns_with<const RES: bool>(
             let (phi, psi) = if i == 0 {
                 (phi, psi)
             } else {
-                (
-                    phi + tau * ((lphi - phi) / tau).round(),
-                    psi + tau * ((lpsi - psi) / tau).round(),
-                )
+                (unwrap(lphi, phi), unwrap(lpsi, psi))
             };
             lphi = phi;
             lpsi = psi;

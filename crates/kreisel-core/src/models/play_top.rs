@@ -786,3 +786,53 @@ impl PlayTop {
         Ok(y)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::rotation::quaternion_from_euler;
+
+    /// The right-hand sides compiled for one friction law and without resistance torques
+    /// (what the simulation integrates) are the general one's, in every mode.
+    #[test]
+    fn compiled_right_hand_sides_are_the_general_one() {
+        let (m, rho, s) = (0.02, 0.02, 0.006);
+        let c = 0.4 * m * rho * rho;
+        let q = quaternion_from_euler(0.4, 2.1, -0.7);
+        for friction in [
+            Friction::Coulomb { mu: 0.3 },
+            Friction::Viscous { mu: 1.0 },
+            Friction::Frictionless,
+        ] {
+            let top =
+                PlayTop::new(m, 0.8 * c, c, s, rho, 9.81, friction, 0.0, 0.0, 0.0, 0.0).unwrap();
+            let y = top.state(q, [3.0, -2.0, 150.0], 0.05, -0.03, None).unwrap();
+            let p = top.rhs_consts();
+            let dir = [0.6, -0.8, 0.0];
+            for mode in [Mode::Slip, Mode::Roll, Mode::Flight] {
+                let (mut general, mut any, mut own) = ([0.0; DIM], [0.0; DIM], [0.0; DIM]);
+                let c0 = top.dynamics(mode, &y, dir, &mut general);
+                let c1 = top.dynamics_with::<false, { law::ANY }>(&p, mode, &y, dir, &mut any);
+                let c2 = match friction.law() {
+                    law::COULOMB => {
+                        top.dynamics_with::<false, { law::COULOMB }>(&p, mode, &y, dir, &mut own)
+                    }
+                    law::VISCOUS => {
+                        top.dynamics_with::<false, { law::VISCOUS }>(&p, mode, &y, dir, &mut own)
+                    }
+                    _ => top
+                        .dynamics_with::<false, { law::FRICTIONLESS }>(&p, mode, &y, dir, &mut own),
+                };
+                assert_eq!(general, any, "{friction:?} {mode:?}");
+                assert_eq!(general, own, "{friction:?} {mode:?}");
+                assert_eq!((c0.n, c0.ft), (c1.n, c1.ft));
+                assert_eq!((c0.n, c0.ft), (c2.n, c2.ft));
+                // the state moves: a slip, a spin, a normal force
+                assert!(general.iter().all(|v| v.is_finite()));
+                if mode != Mode::Flight {
+                    assert!(c0.n.abs() > 0.0);
+                }
+            }
+        }
+    }
+}

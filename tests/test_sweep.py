@@ -527,21 +527,21 @@ def test_exact_lagrange_sweep_maps_the_kinds_of_motion(tmp_path):
 def test_tasks_shrink_toward_the_end_of_a_sweep_and_cover_every_run_once():
     from kreisel import _sweep
 
-    tables = play_spec(grid={"psi_dot": {"start": 50.0, "stop": 250.0, "num": 2500}},
-                       output={"chunk": 1000})  # fmt: skip
+    tables = play_spec(grid={"psi_dot": {"start": 50.0, "stop": 250.0, "num": 10_000}},
+                       output={"chunk": 2000})  # fmt: skip
     tables["top"]["s"] = S
     sp = _sweep.load_spec(tables)
-    tasks = _sweep._tasks(sp, [0, 1, 2], {}, lanes=2)
+    tasks = _sweep._tasks(sp, [0, 1, 2, 3, 4], {}, lanes=2)
     sizes = [len(t[4]["psi_dot"]) for t in tasks]
-    assert sum(sizes) == 2500 and max(sizes) == _sweep.TASK_RUNS
-    # guided: each task at most an eighth (2 lanes) of what was left, down to TAIL_RUNS
-    left = 2500
+    assert sum(sizes) == 10_000 and max(sizes) == _sweep.TASK_RUNS
+    # guided: each task at most a 1/(TASK_SHARE lanes) share of what was left, down to TAIL_RUNS
+    left, share = 10_000, _sweep.TASK_SHARE * 2
     for size in sizes:
-        assert size <= max(_sweep.TAIL_RUNS, -(-left // 8))
+        assert size <= max(_sweep.TAIL_RUNS, -(-left // share))
         left -= size
     assert sizes[-2] == _sweep.TAIL_RUNS and sizes[-1] <= _sweep.TAIL_RUNS
     # every run once, in order, each chunk's parts numbered from 0 with their offsets
-    for k in range(3):
+    for k in range(5):
         mine = [t for t in tasks if t[0] == k]
         assert [t[1] for t in mine] == list(range(mine[0][2]))
         got = np.concatenate([t[4]["psi_dot"] for t in mine])

@@ -13,7 +13,7 @@ A sweep spec has the tables of a ``kreisel run`` file ([top], [state], [simulati
 ``[output]``
     ``keep``: the per-run summaries to store (default: all of the model's but
     ``lyapunov``); ``chunk``: runs per store chunk (default 256; a chunk is computed as
-    tasks of at most 256 runs, shorter toward the end of the sweep so that the cores finish
+    tasks of at most 1024 runs, shorter toward the end of the sweep so that the cores finish
     together); ``inversion_level`` (play tops, default 0.9);
     ``lyapunov_tau`` (heavy tops keeping ``lyapunov``: the renormalisation interval, s).
 
@@ -995,16 +995,20 @@ def sweep(
     return open_sweep(store)
 
 
-TASK_RUNS = 256  # at most this many runs per task: a store chunk may be split into tasks
+TASK_RUNS = 1024  # at most this many runs per task: a store chunk may be split into tasks
 TAIL_RUNS = 16  # the least: toward the end of a sweep the tasks shrink to this size
+TASK_SHARE = 2  # a task takes at most 1/(TASK_SHARE lanes) of the runs still to hand out
 
 
 def _tasks(sp: SweepSpec, todo: list, samples: dict, lanes: int = 1) -> list:
     """(chunk, part, parts, offset, values) for every task: each chunk's runs (C order within
     its block) cut into contiguous parts, so a large store chunk (few writes) still spreads
-    over many cores. A part takes at most TASK_RUNS runs and at most a 1/(4 lanes) share of
-    the runs not yet handed out, but no fewer than TAIL_RUNS (guided scheduling): the last
-    tasks of a sweep are short, so the `lanes` cores or workers finish together."""
+    over many cores. A part takes at most TASK_RUNS runs and at most a 1/(TASK_SHARE lanes)
+    share of the runs not yet handed out, but no fewer than TAIL_RUNS (guided scheduling, in
+    the manner of factoring: half of what is left goes out in `lanes` equal tasks): the last
+    tasks of a sweep are short, so the `lanes` cores or workers finish together, and there
+    are few tasks, as each costs Dask a few ms of CPU (scheduler, worker and this process:
+    about 6 ms each on a 2-core VM, measured with /proc/PID/stat)."""
     chunks = [(k, sp.chunk_values(k, samples)) for k in todo]
     left = sum(len(next(iter(v.values()))) for _, v in chunks)
     out = []
@@ -1012,7 +1016,7 @@ def _tasks(sp: SweepSpec, todo: list, samples: dict, lanes: int = 1) -> list:
         n = len(next(iter(values.values())))
         bounds = [0]
         while bounds[-1] < n:
-            size = min(TASK_RUNS, max(TAIL_RUNS, -(-left // (4 * lanes))), n - bounds[-1])
+            size = min(TASK_RUNS, max(TAIL_RUNS, -(-left // (TASK_SHARE * lanes))), n - bounds[-1])
             bounds.append(bounds[-1] + size)
             left -= size
         parts = len(bounds) - 1
@@ -1079,20 +1083,19 @@ def _results(sp: SweepSpec, payload: dict, todo: list, samples: dict, client, th
     from distributed import as_completed
 
     token = uuid.uuid4().hex[:12]
-    futures = {}
-    for tk in tasks:
-        k, j = tk[0], tk[1]
-        f = client.submit(compute_chunk, payload, tk[4], 1,
-                          key=f"kreisel-sweep-{token}-{k}-{j}", pure=False)  # fmt: skip
-        futures[f.key] = (tk, f)
+    keys = [f"kreisel-sweep-{token}-{tk[0]}-{tk[1]}" for tk in tasks]
+    submitted = client.map(compute_chunk, [payload] * len(tasks), [tk[4] for tk in tasks],
+                           [1] * len(tasks), key=keys, pure=False)  # fmt: skip
+    futures = {f.key: (tk, f) for tk, f in zip(tasks, submitted)}
     try:
-        for f in as_completed([f for _, f in futures.values()], loop=client.loop):
-            tk = futures.pop(f.key)[0]
-            result = f.result()
-            f.release()
-            whole = finished(tk, result)
-            if whole is not None:
-                yield whole
+        for batch in as_completed(submitted, loop=client.loop).batches():
+            results = client.gather(batch)
+            for f, result in zip(batch, results):
+                tk = futures.pop(f.key)[0]
+                f.release()
+                whole = finished(tk, result)
+                if whole is not None:
+                    yield whole
     finally:
         if futures:
             client.cancel([f for _, f in futures.values()])

@@ -967,23 +967,24 @@ def sweep(
                 shutil.rmtree(store)
             root = None
         samples = sp.random_values() if sp.random else {}
-        if root is None:
-            root = _create(store, sp, samples)
-        done = root["chunk_done"][:]
-        if retry_failed:
-            failed = root["status"][:] == 2
-            for k in range(sp.n_chunks):
-                if done[k] and failed[sp.chunk_slices(k)].any():
-                    done[k] = 0
-        todo = [k for k in range(sp.n_chunks) if not done[k]]
-        payload = sp.as_dict()
+        todo = list(range(sp.n_chunks))
+        if root is not None:
+            done = root["chunk_done"][:]
+            if retry_failed:
+                failed = root["status"][:] == 2
+                for k in range(sp.n_chunks):
+                    if done[k] and failed[sp.chunk_slices(k)].any():
+                        done[k] = 0
+            todo = [k for k in todo if not done[k]]
         runs = {k: int(np.prod([s.stop - s.start for s in sp.chunk_slices(k)])) for k in todo}
-        writer = _Writer(root, sp)
         finished = sp.n_chunks - len(todo)
-        work = closing(_results(sp, payload, todo, samples, client, threads))
+        work = _Work(sp, sp.as_dict(), todo, samples, client, threads)  # the runs start
         bar = tqdm(total=sum(runs.values()), unit="run", desc="sweep", disable=not progress)
-        with bar, work as results:
-            for k, result in results:
+        with bar, closing(work):
+            if root is None:  # a new store is made while the first tasks run
+                root = _create(store, sp, samples)
+            writer = _Writer(root, sp)
+            for k, result in work:
                 writer.write(k, result)
                 finished += 1
                 bar.update(runs[k])
@@ -1036,66 +1037,82 @@ def _join(parts: list) -> dict:
     return out
 
 
-def _results(sp: SweepSpec, payload: dict, todo: list, samples: dict, client, threads):
-    """(chunk, result) pairs as chunks finish; pending work is cancelled if the consumer
-    stops (an exception, an interrupt)."""
-    if not todo:
-        return
-    if client is None:
-        cores = threads or os.cpu_count() or 1
-    else:
-        cores = max(1, sum(client.nthreads().values()))
-    tasks = _tasks(sp, todo, samples, cores)
-    done: dict = {}
+class _Work:
+    """The tasks of a sweep, all handed out at once (the runs start); iterating gives
+    (chunk, result) pairs as whole chunks finish. close() cancels the tasks not yet started
+    (after an exception or an interrupt) and waits for the local ones already running."""
 
-    def finished(task, result):
+    def __init__(self, sp: SweepSpec, payload: dict, todo: list, samples: dict, client,
+                 threads):  # fmt: skip
+        self.client, self.pool, self.parts = client, None, {}
+        self.futures = {}  # key: (task, future)
+        if not todo:
+            return
+        if client is None:
+            cores = threads or os.cpu_count() or 1
+        else:
+            cores = max(1, sum(client.nthreads().values()))
+        tasks = _tasks(sp, todo, samples, cores)
+        if client is None:
+            from concurrent.futures import ThreadPoolExecutor
+
+            # `threads` tasks in flight, each on its own core (the GIL is released while
+            # the core's batch runs, so one task's set-up in Python overlaps the others'
+            # runs); fewer tasks than cores: the cores are shared out inside each task
+            # instead. (Two tasks each on every core was measured slower: two pools on two
+            # cores.)
+            lanes = max(1, min(cores, len(tasks)))
+            inner = max(1, cores // lanes)
+            self.pool = ThreadPoolExecutor(lanes)
+            for i, tk in enumerate(tasks):
+                self.futures[i] = (tk, self.pool.submit(compute_chunk, payload, tk[4], inner))
+        else:
+            token = uuid.uuid4().hex[:12]
+            keys = [f"kreisel-sweep-{token}-{tk[0]}-{tk[1]}" for tk in tasks]
+            submitted = client.map(compute_chunk, [payload] * len(tasks),
+                                   [tk[4] for tk in tasks], [1] * len(tasks), key=keys,
+                                   pure=False)  # fmt: skip
+            self.futures = {f.key: (tk, f) for tk, f in zip(tasks, submitted)}
+
+    def _finished(self, task, result):
+        """The whole chunk once its last part is in, else None."""
         k, j, parts, a, _ = task
-        done.setdefault(k, {})[j] = (a, result)
-        if len(done[k]) == parts:
-            mine = done.pop(k)
-            return k, _join([mine[i] for i in range(parts)])
-        return None
+        self.parts.setdefault(k, {})[j] = (a, result)
+        if len(self.parts[k]) < parts:
+            return None
+        mine = self.parts.pop(k)
+        return k, _join([mine[i] for i in range(parts)])
 
-    if client is None:
-        from concurrent.futures import FIRST_COMPLETED, ThreadPoolExecutor, wait
+    def __iter__(self):
+        if self.pool is not None:
+            from concurrent.futures import FIRST_COMPLETED, wait
 
-        # `threads` tasks in flight, each on its own core (the GIL is released while the
-        # core's batch runs, so one task's set-up in Python overlaps the others' runs);
-        # fewer tasks than cores: the cores are shared out inside each task instead.
-        # (Two tasks each on every core was measured slower: two pools on two cores.)
-        lanes = max(1, min(cores, len(tasks)))
-        inner = max(1, cores // lanes)
-        with ThreadPoolExecutor(lanes) as pool:
-            futures = {pool.submit(compute_chunk, payload, tk[4], inner): tk for tk in tasks}
-            order = {f: i for i, f in enumerate(futures)}
-            try:
-                pending = set(futures)
-                while pending:
-                    ready, pending = wait(pending, return_when=FIRST_COMPLETED)
-                    for f in sorted(ready, key=order.get):
-                        whole = finished(futures[f], f.result())
-                        if whole is not None:
-                            yield whole
-            finally:
-                for f in futures:
-                    f.cancel()
-        return
-    from distributed import as_completed
+            task = {f: (i, tk) for i, (tk, f) in self.futures.items()}
+            pending = set(task)
+            while pending:
+                ready, pending = wait(pending, return_when=FIRST_COMPLETED)
+                for f in sorted(ready, key=lambda f: task[f][0]):
+                    whole = self._finished(task[f][1], f.result())
+                    if whole is not None:
+                        yield whole
+            return
+        if not self.futures:
+            return
+        from distributed import as_completed
 
-    token = uuid.uuid4().hex[:12]
-    keys = [f"kreisel-sweep-{token}-{tk[0]}-{tk[1]}" for tk in tasks]
-    submitted = client.map(compute_chunk, [payload] * len(tasks), [tk[4] for tk in tasks],
-                           [1] * len(tasks), key=keys, pure=False)  # fmt: skip
-    futures = {f.key: (tk, f) for tk, f in zip(tasks, submitted)}
-    try:
-        for batch in as_completed(submitted, loop=client.loop).batches():
-            results = client.gather(batch)
-            for f, result in zip(batch, results):
-                tk = futures.pop(f.key)[0]
+        # results come back in batches: one gather for all the tasks finished meanwhile
+        batches = as_completed([f for _, f in self.futures.values()], loop=self.client.loop)
+        for batch in batches.batches():
+            for f, result in zip(batch, self.client.gather(batch)):
+                tk = self.futures.pop(f.key)[0]
                 f.release()
-                whole = finished(tk, result)
+                whole = self._finished(tk, result)
                 if whole is not None:
                     yield whole
-    finally:
-        if futures:
-            client.cancel([f for _, f in futures.values()])
+
+    def close(self):
+        if self.pool is not None:
+            self.pool.shutdown(wait=True, cancel_futures=True)
+        elif self.futures:
+            self.client.cancel([f for _, f in self.futures.values()])
+            self.futures = {}

@@ -25,8 +25,10 @@ the result is the median over the rounds of their ratio (the best times are repo
 First the local runs on 1 and 2 cores, with no cluster (its idle processes would share the
 CPU): the scaling. Then, with a cluster started, a local 2-core run and a Dask run per
 round: the Dask overhead, against local runs beside the same idle cluster; then the same
-with the other cluster. The store chunks hold 1000 runs (10 chunks, so 80 writes), each
-cut into 4 tasks of 250 runs. All the datasets must agree bit for bit.
+with the other cluster. The store chunks hold 1000 runs (10 chunks, so 80 writes); the runs go
+out as 26 tasks, whole chunks first, then parts that shrink toward the end (guided, so
+that the cores finish together; 2 lanes both locally and on Dask). All the datasets must
+agree bit for bit.
 Result: benchmarks/results-sweep.json.
 """
 
@@ -201,10 +203,14 @@ def main(argv=None):
     (t2c, td, ratio, ratios, startup) = clusters[True]
     (t2d, tdd, ratio_d, ratios_d, _) = clusters[False]
     inverted = int(np.isfinite(one["inversion_time"].values).sum())
+    from kreisel import _sweep
+
+    tasks = len(_sweep._tasks(sp, list(range(sp.n_chunks)), {}, lanes=2))
     res = {
         "case": CASE,
         "runs": sp.size,
         "chunks": sp.n_chunks,
+        "tasks": tasks,
         "t_end": args.t_end,
         "rounds": args.rounds,
         "local_1_core_best_s": t1,
@@ -226,7 +232,7 @@ def main(argv=None):
         "steps_mean": float(one["steps"].values.mean()),
     }
     OUT.write_text(json.dumps(res, indent=2))
-    print(f"S1: {sp.size} play-top runs of {args.t_end} s in {sp.n_chunks} chunks")
+    print(f"S1: {sp.size} play-top runs of {args.t_end} s in {sp.n_chunks} chunks, {tasks} tasks")
 
     def spread(rs):
         return f"rounds {100 * (min(rs) - 1):+.1f} to {100 * (max(rs) - 1):+.1f} %"

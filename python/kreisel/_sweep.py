@@ -1045,7 +1045,7 @@ class _Work:
     def __init__(self, sp: SweepSpec, payload: dict, todo: list, samples: dict, client,
                  threads):  # fmt: skip
         self.client, self.pool, self.parts = client, None, {}
-        self.futures = {}  # key: (task, future)
+        self.futures = {}  # (task, future) by position (local) or Dask key
         if not todo:
             return
         if client is None:

@@ -528,41 +528,54 @@ def test_tasks_shrink_toward_the_end_of_a_sweep_and_cover_every_run_once():
     from kreisel import _sweep
 
     tables = play_spec(grid={"psi_dot": {"start": 50.0, "stop": 250.0, "num": 10_000}},
-                       output={"chunk": 2000})  # fmt: skip
+                       output={"chunk": 700})  # fmt: skip
     tables["top"]["s"] = S
     sp = _sweep.load_spec(tables)
-    tasks = _sweep._tasks(sp, [0, 1, 2, 3, 4], {}, lanes=2)
-    sizes = [len(t[4]["psi_dot"]) for t in tasks]
-    assert sum(sizes) == 10_000 and max(sizes) == _sweep.TASK_RUNS
+    todo = [k for k in range(sp.n_chunks) if k != 3]  # as in a rerun: chunk 3 is done
+    sizes = {k: len(sp.chunk_values(k, {})["psi_dot"]) for k in todo}
+    total = sum(sizes.values())
+    assert sp.n_chunks == 15 and total == 10_000 - 700
+    tasks = _sweep._tasks(sp, todo, {}, lanes=2)
+    runs = [len(t[1]["psi_dot"]) for t in tasks]
+    assert sum(runs) == total and max(runs) == _sweep.TASK_RUNS
     # guided: each task at most a 1/(TASK_SHARE lanes) share of what was left, down to TAIL_RUNS
-    left, share = 10_000, _sweep.TASK_SHARE * 2
-    for size in sizes:
-        assert size <= max(_sweep.TAIL_RUNS, -(-left // share))
-        left -= size
-    assert sizes[-2] == _sweep.TAIL_RUNS and sizes[-1] <= _sweep.TAIL_RUNS
-    # every run once, in order, each chunk's parts numbered from 0 with their offsets
-    for k in range(5):
-        mine = [t for t in tasks if t[0] == k]
-        assert [t[1] for t in mine] == list(range(mine[0][2]))
-        got = np.concatenate([t[4]["psi_dot"] for t in mine])
-        assert np.array_equal(got, sp.chunk_values(k, {})["psi_dot"])
-        offsets = np.cumsum([0] + [len(t[4]["psi_dot"]) for t in mine])[:-1]
-        assert [t[3] for t in mine] == list(offsets)
+    left, share = total, _sweep.TASK_SHARE * 2
+    for n in runs:
+        assert n <= max(_sweep.TAIL_RUNS, -(-left // share))
+        left -= n
+    assert runs[-2] == _sweep.TAIL_RUNS and runs[-1] <= _sweep.TAIL_RUNS
+    # the tasks' sizes do not depend on the chunks: a task may span chunks or end inside one
+    assert max(len(t[0]) for t in tasks) >= 2
+    assert all(sum(m for _, _, m in t[0]) == len(t[1]["psi_dot"]) for t in tasks)
+    # every run once, in order: the pieces run through the chunks to do, each from 0 to its
+    # end, and the values are those of the chunks
+    pieces = [p for t in tasks for p in t[0]]
+    assert [k for k, _, _ in pieces] == sorted(k for k, _, _ in pieces)
+    for k in todo:
+        mine = [(a, m) for c, a, m in pieces if c == k]
+        assert [a for a, _ in mine] == list(np.cumsum([0] + [m for _, m in mine])[:-1])
+        assert sum(m for _, m in mine) == sizes[k]
+    got = np.concatenate([t[1]["psi_dot"] for t in tasks])
+    want = np.concatenate([sp.chunk_values(k, {})["psi_dot"] for k in todo])
+    assert np.array_equal(got, want)
 
 
-def test_a_chunk_split_into_tasks_gives_the_same_store(tmp_path, monkeypatch):
+@pytest.mark.parametrize("chunk", [8, 2])
+def test_tasks_that_split_or_span_chunks_give_the_same_store(tmp_path, monkeypatch, chunk):
     from kreisel import _sweep
 
     tables = play_spec(
         grid={"psi_dot": [80.0, 120.0, 160.0, 200.0], "height": [0.004, -0.01]},
-        output={"chunk": 8},
+        output={"chunk": chunk},
     )
     tables["top"]["s"] = S
     whole = kreisel.sweep(tables, tmp_path / "whole.zarr", progress=False)
-    monkeypatch.setattr(_sweep, "TASK_RUNS", 3)  # one chunk of 8 runs in 3 tasks
-    assert [len(t[4]["psi_dot"]) for t in _sweep._tasks(_sweep.load_spec(tables), [0], {})] == [
-        3, 3, 2,
-    ]  # fmt: skip
+    monkeypatch.setattr(_sweep, "TASK_RUNS", 3)  # 8 runs in tasks of 3, 3 and 2
+    sp = _sweep.load_spec(tables)
+    tasks = _sweep._tasks(sp, list(range(sp.n_chunks)), {})
+    assert [len(t[1]["psi_dot"]) for t in tasks] == [3, 3, 2]
+    # one chunk of 8 split in three; or chunks of 2 runs, which tasks of 3 span
+    assert max(len(t[0]) for t in tasks) == (1 if chunk == 8 else 2)
     split = kreisel.sweep(tables, tmp_path / "split.zarr", progress=False)
     assert_same(whole, split)
     assert split.attrs["run_errors"] == whole.attrs["run_errors"]

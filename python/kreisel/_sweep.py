@@ -978,7 +978,7 @@ def sweep(
             todo = [k for k in todo if not done[k]]
         runs = {k: int(np.prod([s.stop - s.start for s in sp.chunk_slices(k)])) for k in todo}
         finished = sp.n_chunks - len(todo)
-        work = _Work(sp, sp.as_dict(), todo, samples, client, threads)  # the runs start
+        work = _Work(sp, sp.as_dict(), runs, samples, client, threads)  # the runs start
         bar = tqdm(total=sum(runs.values()), unit="run", desc="sweep", disable=not progress)
         with bar, closing(work):
             if root is None:  # a new store is made while the first tasks run
@@ -1002,28 +1002,46 @@ TASK_SHARE = 2  # a task takes at most 1/(TASK_SHARE lanes) of the runs still to
 
 
 def _tasks(sp: SweepSpec, todo: list, samples: dict, lanes: int = 1) -> list:
-    """(chunk, part, parts, offset, values) for every task: each chunk's runs (C order within
-    its block) cut into contiguous parts, so a large store chunk (few writes) still spreads
-    over many cores. A part takes at most TASK_RUNS runs and at most a 1/(TASK_SHARE lanes)
-    share of the runs not yet handed out, but no fewer than TAIL_RUNS (guided scheduling, in
-    the manner of factoring: half of what is left goes out in `lanes` equal tasks): the last
-    tasks of a sweep are short, so the `lanes` cores or workers finish together, and there
-    are few tasks, as each costs Dask a few ms of CPU (scheduler, worker and this process:
-    about 6 ms each on a 2-core VM, measured with /proc/PID/stat)."""
+    """(pieces, values) for every task, where `pieces` lists (chunk, offset, runs): the runs
+    of the chunks to do, in order (C order within each chunk's block), cut into contiguous
+    tasks that may end inside a chunk or span several, so the tasks' size does not depend
+    on the store's chunks (few writes, or small chunks, alike). A task takes at most
+    TASK_RUNS runs and at most a 1/(TASK_SHARE lanes) share of the runs not yet handed out,
+    but no fewer than TAIL_RUNS (guided scheduling, in the manner of factoring: half of what
+    is left goes out in `lanes` equal tasks): the last tasks of a sweep are short, so the
+    `lanes` cores or workers finish together, and there are few tasks, as each costs Dask a
+    few ms of CPU (scheduler, worker and this process: about 6 ms each on a 2-core VM,
+    measured with /proc/PID/stat)."""
     chunks = [(k, sp.chunk_values(k, samples)) for k in todo]
-    left = sum(len(next(iter(v.values()))) for _, v in chunks)
+    sizes = [len(next(iter(v.values()))) for _, v in chunks]
+    left = sum(sizes)
     out = []
-    for k, values in chunks:
-        n = len(next(iter(values.values())))
-        bounds = [0]
-        while bounds[-1] < n:
-            size = min(TASK_RUNS, max(TAIL_RUNS, -(-left // (TASK_SHARE * lanes))), n - bounds[-1])
-            bounds.append(bounds[-1] + size)
-            left -= size
-        parts = len(bounds) - 1
-        for j in range(parts):
-            a, b = bounds[j], bounds[j + 1]
-            out.append((k, j, parts, a, {name: v[a:b] for name, v in values.items()}))
+    c, at = 0, 0  # the next run to hand out: chunk index, offset in it
+    while left > 0:
+        size = min(TASK_RUNS, max(TAIL_RUNS, -(-left // (TASK_SHARE * lanes))), left)
+        left -= size
+        pieces = []
+        while size > 0:
+            k, n = chunks[c][0], sizes[c]
+            m = min(size, n - at)
+            pieces.append((c, k, at, m))
+            size -= m
+            at += m
+            if at == n:
+                c, at = c + 1, 0
+        values = {
+            name: np.concatenate([chunks[i][1][name][a : a + m] for i, _, a, m in pieces])
+            for name in chunks[0][1]
+        }
+        out.append(([(k, a, m) for _, k, a, m in pieces], values))
+    return out
+
+
+def _piece(result: dict, start: int, runs: int) -> dict:
+    """The part of a task's result for its runs start .. start + runs (errors renumbered)."""
+    out = {name: v[start : start + runs] for name, v in result.items() if name != "errors"}
+    out["errors"] = {i - start: msg for i, msg in result["errors"].items()
+                     if start <= i < start + runs}  # fmt: skip
     return out
 
 
@@ -1042,10 +1060,13 @@ class _Work:
     (chunk, result) pairs as whole chunks finish. close() cancels the tasks not yet started
     (after an exception or an interrupt) and waits for the local ones already running."""
 
-    def __init__(self, sp: SweepSpec, payload: dict, todo: list, samples: dict, client,
+    def __init__(self, sp: SweepSpec, payload: dict, runs: dict, samples: dict, client,
                  threads):  # fmt: skip
+        """`runs`: the chunks to do, with their numbers of runs."""
         self.client, self.pool, self.parts = client, None, {}
         self.futures = {}  # (task, future) by position (local) or Dask key
+        self.missing = dict(runs)  # runs still to come in, by chunk
+        todo = list(runs)
         if not todo:
             return
         if client is None:
@@ -1065,23 +1086,25 @@ class _Work:
             inner = max(1, cores // lanes)
             self.pool = ThreadPoolExecutor(lanes)
             for i, tk in enumerate(tasks):
-                self.futures[i] = (tk, self.pool.submit(compute_chunk, payload, tk[4], inner))
+                self.futures[i] = (tk, self.pool.submit(compute_chunk, payload, tk[1], inner))
         else:
             token = uuid.uuid4().hex[:12]
-            keys = [f"kreisel-sweep-{token}-{tk[0]}-{tk[1]}" for tk in tasks]
+            keys = [f"kreisel-sweep-{token}-{i}" for i in range(len(tasks))]
             submitted = client.map(compute_chunk, [payload] * len(tasks),
-                                   [tk[4] for tk in tasks], [1] * len(tasks), key=keys,
+                                   [tk[1] for tk in tasks], [1] * len(tasks), key=keys,
                                    pure=False)  # fmt: skip
             self.futures = {f.key: (tk, f) for tk, f in zip(tasks, submitted)}
 
-    def _finished(self, task, result):
-        """The whole chunk once its last part is in, else None."""
-        k, j, parts, a, _ = task
-        self.parts.setdefault(k, {})[j] = (a, result)
-        if len(self.parts[k]) < parts:
-            return None
-        mine = self.parts.pop(k)
-        return k, _join([mine[i] for i in range(parts)])
+    def _finished(self, task, result) -> list:
+        """The chunks (chunk, result) that this task's result completes."""
+        whole, start = [], 0
+        for k, a, m in task[0]:
+            self.parts.setdefault(k, []).append((a, _piece(result, start, m)))
+            start += m
+            self.missing[k] -= m
+            if self.missing[k] == 0:
+                whole.append((k, _join(sorted(self.parts.pop(k), key=lambda p: p[0]))))
+        return whole
 
     def __iter__(self):
         if self.pool is not None:
@@ -1092,9 +1115,7 @@ class _Work:
             while pending:
                 ready, pending = wait(pending, return_when=FIRST_COMPLETED)
                 for f in sorted(ready, key=lambda f: task[f][0]):
-                    whole = self._finished(task[f][1], f.result())
-                    if whole is not None:
-                        yield whole
+                    yield from self._finished(task[f][1], f.result())
             return
         if not self.futures:
             return
@@ -1106,9 +1127,7 @@ class _Work:
             for f, result in zip(batch, self.client.gather(batch)):
                 tk = self.futures.pop(f.key)[0]
                 f.release()
-                whole = self._finished(tk, result)
-                if whole is not None:
-                    yield whole
+                yield from self._finished(tk, result)
 
     def close(self):
         if self.pool is not None:

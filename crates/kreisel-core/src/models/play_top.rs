@@ -400,12 +400,14 @@ impl PlayTop {
             let wz = dot(k.w, k.gamma);
             let wh = add(k.w, scale(-wz, k.gamma));
             let h = dot(wh, wh).sqrt();
-            // Regularised below ~1e-6 sqrt(g / rho) so the torque vanishes smoothly (a sharper
-            // switch makes the equations stiff as the rolling stops).
+            // The sharp law down to reg ~ 1e-6 sqrt(g / rho), linear in the rate below it, so
+            // the torque vanishes continuously as the rolling stops (a sharper switch makes the
+            // equations stiff). Not h + reg: that would weaken the torque by reg / h at every
+            // rate, and a ball rolling to a stop would take ln(h0 / h_end) reg / (dh/dt) longer.
             let reg = 1e-6 * (self.g / self.rho).sqrt().max(1e-3);
             per_n = add(
-                scale(-self.rolling / (h + reg), wh),
-                scale(-self.drilling * wz / (wz.abs() + reg), k.gamma),
+                scale(-self.rolling / h.max(reg), wh),
+                scale(-self.drilling * wz / wz.abs().max(reg), k.gamma),
             );
         }
         (per_n, scale(-self.air, k.w))

@@ -26,9 +26,9 @@ First the local runs on 1 and 2 cores, with no cluster (its idle processes would
 CPU): the scaling. Then, with a cluster started, a local 2-core run and a Dask run per
 round: the Dask overhead, against local runs beside the same idle cluster; then the same
 with the other cluster. The store chunks hold 1000 runs (10 chunks, so 80 writes); the runs go
-out as 26 tasks, whole chunks first, then parts that shrink toward the end (guided, so
-that the cores finish together; 2 lanes both locally and on Dask). All the datasets must
-agree bit for bit.
+out as tasks of up to 1024 runs, which may span chunks, shrinking toward the end (guided,
+so that the cores finish together; 2 lanes both locally and on Dask; the count is
+printed). All the datasets must agree bit for bit.
 Result: benchmarks/results-sweep.json.
 """
 

@@ -564,12 +564,18 @@ def test_tasks_shrink_toward_the_end_of_a_sweep_and_cover_every_run_once():
 def test_tasks_that_split_or_span_chunks_give_the_same_store(tmp_path, monkeypatch, chunk):
     from kreisel import _sweep
 
-    tables = play_spec(
-        grid={"psi_dot": [80.0, 120.0, 160.0, 200.0], "height": [0.004, -0.01]},
-        output={"chunk": chunk},
-    )
-    tables["top"]["s"] = S
-    whole = kreisel.sweep(tables, tmp_path / "whole.zarr", progress=False)
+    def tables_with(chunk):
+        tables = play_spec(
+            grid={"psi_dot": [80.0, 120.0, 160.0, 200.0], "height": [0.004, -0.01]},
+            output={"chunk": chunk},
+        )
+        tables["top"]["s"] = S
+        return tables
+
+    # the reference: one chunk of all 8 runs, computed as one task (a single piece: no
+    # cutting of results, whatever the chunks of the run compared with it)
+    whole = kreisel.sweep(tables_with(8), tmp_path / "whole.zarr", progress=False)
+    tables = tables_with(chunk)
     monkeypatch.setattr(_sweep, "TASK_RUNS", 3)  # 8 runs in tasks of 3, 3 and 2
     sp = _sweep.load_spec(tables)
     tasks = _sweep._tasks(sp, list(range(sp.n_chunks)), {})

@@ -614,16 +614,10 @@ pub fn columns(top: &HeavyTop, states: &[RigidState]) -> Columns {
             .and_then(|s| top.kovalevskaya(s))
             .map(|_| Vec::with_capacity(n)),
     };
-    let (mut last_phi, mut last_psi) = (0.0, 0.0);
-    for (i, s) in states.iter().enumerate() {
+    let mut angles = Unwrapped::default();
+    for s in states {
         let (phi, theta, psi) = euler_from_quaternion(s.q);
-        let (phi, psi) = if i == 0 {
-            (phi, psi)
-        } else {
-            (unwrap(last_phi, phi), unwrap(last_psi, psi))
-        };
-        last_phi = phi;
-        last_psi = psi;
+        let (phi, psi) = angles.next(phi, psi);
         c.theta.push(theta);
         c.phi.push(phi);
         c.psi.push(psi);
@@ -639,9 +633,29 @@ pub fn columns(top: &HeavyTop, states: &[RigidState]) -> Columns {
     c
 }
 
+/// The Euler angles phi and psi of a run's rows made continuous: each the representative
+/// (mod 2 pi) nearest to the previous row's (the first row's as they are).
+#[derive(Default)]
+pub(crate) struct Unwrapped {
+    last: Option<(f64, f64)>,
+}
+
+impl Unwrapped {
+    /// The next row's (phi, psi).
+    #[inline]
+    pub(crate) fn next(&mut self, phi: f64, psi: f64) -> (f64, f64) {
+        let out = match self.last {
+            None => (phi, psi),
+            Some((lphi, lpsi)) => (unwrap(lphi, phi), unwrap(lpsi, psi)),
+        };
+        self.last = Some(out);
+        out
+    }
+}
+
 /// The representative of `angle` (mod 2 pi) nearest to `last`.
 #[inline]
-pub(crate) fn unwrap(last: f64, angle: f64) -> f64 {
+fn unwrap(last: f64, angle: f64) -> f64 {
     let tau = std::f64::consts::TAU;
     let turns = (last - angle) / tau;
     // Mostly no turn: skip the rounding call (`angle + tau * 0.0` is `angle + 0.0`).

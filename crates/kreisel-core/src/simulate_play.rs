@@ -484,7 +484,7 @@ fn columns_with<const RES: bool>(
     dir: &[[f64; 3]],
 ) -> PlayColumns {
     use crate::rotation::euler_from_matrix;
-    use crate::simulate::unwrap;
+    use crate::simulate::Unwrapped;
     // Rows in blocks, then the blocks' columns: pushing to ten columns per row costs more
     // than the row's arithmetic, and rows for the whole run would be a large allocation.
     #[derive(Clone, Copy, Default)]
@@ -513,7 +513,7 @@ fn columns_with<const RES: bool>(
         energy_parts: Vec::with_capacity(n),
     };
     let consts = top.rhs_consts();
-    let (mut lphi, mut lpsi) = (0.0f64, 0.0f64);
+    let mut angles = Unwrapped::default();
     let mut rows = [Row::default(); BLOCK];
     for start in (0..n).step_by(BLOCK) {
         let end = n.min(start + BLOCK);
@@ -521,16 +521,10 @@ fn columns_with<const RES: bool>(
             .iter()
             .zip(&mode[start..end])
             .zip(&dir[start..end]);
-        for (i, (row, ((y, &mode), &dir))) in (start..).zip(rows.iter_mut().zip(states)) {
+        for (row, ((y, &mode), &dir)) in rows.iter_mut().zip(states) {
             let k = top.kin(y);
             let (phi, theta, psi) = euler_from_matrix(k.r);
-            let (phi, psi) = if i == 0 {
-                (phi, psi)
-            } else {
-                (unwrap(lphi, phi), unwrap(lpsi, psi))
-            };
-            lphi = phi;
-            lpsi = psi;
+            let (phi, psi) = angles.next(phi, psi);
             let mut dy = [0.0; DIM];
             let (a, b, p) = top.energy_parts(y);
             *row = Row {

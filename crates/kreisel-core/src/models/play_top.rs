@@ -614,7 +614,11 @@ impl PlayTop {
                 let f_s = k.to_space(f_b);
                 let t = contact_torque(f_b, n);
                 let wdot = add(p.inv_inertia(t), b0);
-                let vdot = [f_s[0] / self.m, f_s[1] / self.m, f_s[2] / self.m - self.g];
+                let vdot = [
+                    p.inv_m * f_s[0],
+                    p.inv_m * f_s[1],
+                    p.inv_m * f_s[2] - self.g,
+                ];
                 (
                     Contact {
                         n,

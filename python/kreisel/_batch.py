@@ -8,8 +8,6 @@ import numpy as np
 
 from . import _core
 from ._errors import ParameterError
-from ._heavy import _Rigid, rigid_state
-from ._play import PlayState, PlayTop, _tolerances
 from ._validate import real
 
 
@@ -64,9 +62,10 @@ def _threads(threads):
     return int(threads)
 
 
-def _broadcast(models, states, single_model, single_state):
-    ms = [models] if isinstance(models, single_model) else list(models)
-    ss = [states] if single_state(states) else list(states)
+def _broadcast(models, states):
+    """(models, states) as equal-length lists: one and many broadcast."""
+    ms = list(models) if isinstance(models, (list, tuple)) else [models]
+    ss = list(states) if isinstance(states, (list, tuple)) else [states]
     if len(ms) == 1 and len(ss) > 1:
         ms = ms * len(ss)
     if len(ss) == 1 and len(ms) > 1:
@@ -77,6 +76,26 @@ def _broadcast(models, states, single_model, single_state):
             "one and many, or equally many"
         )
     return ms, ss
+
+
+def _natives(models, states):
+    """(native models, flat native states) of a batch, broadcast and checked."""
+    ms, ss = _broadcast(models, states)
+    natives, flat = [], []
+    for m, s in zip(ms, ss):
+        to_native = getattr(m, "_native_state", None)
+        if to_native is None:
+            raise ParameterError(
+                f"models contains {m!r}, which is not allowed: use PlayTop, HeavyTop or "
+                "LagrangeTop (one kind per batch)"
+            )
+        natives.append(m._native_model())
+        flat.append(to_native(s))
+    if len({type(n) for n in natives}) > 1:
+        raise ParameterError(
+            "models mixes play tops and heavy tops, which is not allowed: one kind per batch"
+        )
+    return natives, flat
 
 
 def simulate_many(
@@ -95,7 +114,8 @@ def simulate_many(
     """Simulates many tops in parallel (the GIL released) and summarises each run.
 
     Each run is computed exactly as :func:`simulate` would compute it alone, so the
-    summaries do not depend on the batch, the order or the number of threads.
+    summaries do not depend on the batch, the order or the number of threads; each is
+    reduced as it goes (no trajectory is kept).
 
     Parameters
     ----------
@@ -122,51 +142,38 @@ def simulate_many(
     -------
     BatchSummary (play tops) or HeavyBatchSummary (heavy tops)
     """
-    first = models if not isinstance(models, (list, tuple)) else (models[0] if models else None)
-    if isinstance(first, _Rigid):
-        return _heavy_many(models, states, t_end, method, rtol, atol, dt, threads, progress)
-    if method != "dop853":
-        raise ParameterError(
-            f"method = {method!r} is not allowed for a PlayTop: its contact modes, events "
-            "and impacts need the adaptive 'dop853'"
-        )
-    ms, ss = _broadcast(models, states, PlayTop, lambda s: isinstance(s, PlayState))
-    for m in ms:
-        if not isinstance(m, PlayTop):
-            raise ParameterError(
-                f"models contains {m!r}, which is not allowed: use PlayTop, HeavyTop or "
-                "LagrangeTop (one kind per batch)"
-            )
-    packed = [ms[i]._check(s) for i, s in enumerate(ss)]
-    return _play_many_packed(
-        [m._native for m in ms], packed, t_end, rtol, atol, inversion_level, threads, progress
-    )
+    natives, flat = _natives(models, states)
+    return _many(natives, flat, t_end, method, rtol, atol, dt, inversion_level, threads, progress)
+
+
+def _many(natives, flat, t_end, method, rtol, atol, dt, inversion_level, threads, progress):
+    """The core's batch on native models and flat states: the summary of each run."""
+    from ._simulate import _settings, names
+
+    t_end, method, rtol, atol, dt, _ = _settings(t_end, method, rtol, atol, dt, [])
+    play = bool(natives) and isinstance(natives[0], _core.PlayTop)
+    events = []
+    if play:
+        level = real("inversion_level", inversion_level)
+        events = [("inversion", "inversion", None, level, 1, False)]
+    out = _in_pieces(
+        _core.many, progress, natives, flat, t_end, method, rtol, atol, dt, events,
+        _threads(threads),
+    )  # fmt: skip
+    steps = np.nan_to_num(out.pop("steps"), nan=0.0).astype(np.int64)
+    errors = tuple(out.pop("errors"))
+    if play:
+        modes = np.array([*names()["modes"], "error"])
+        out["final_mode"] = modes[np.where(out["final_mode"] < 0, -1, out["final_mode"])]
+        return BatchSummary(**out, steps=steps, errors=errors)
+    return HeavyBatchSummary(**out, steps=steps, errors=errors)
 
 
 def _play_many_packed(natives, packed, t_end, rtol, atol, inversion_level, threads, progress):
     """The play-top batch on native tops and packed states (q, omega, com, com_velocity)."""
-    t_end = _t_end(t_end)
-    rtol, atol = _tolerances(rtol, atol)
-    out = _in_pieces(
-        _core.play_many,
-        progress,
-        natives,
-        packed,
-        t_end,
-        rtol,
-        atol,
-        real("inversion_level", inversion_level),
-        _threads(threads),
-    )
-    return BatchSummary(
-        final_u=out["final_u"],
-        final_mode=np.array(out["final_mode"]),
-        inversion_time=out["inversion_time"],
-        jellett_drift=out["jellett_drift"],
-        energy_drift=out["energy_drift"],
-        errors=tuple(out["errors"]),
-        steps=np.nan_to_num(out["steps"], nan=0.0).astype(np.int64),
-    )
+    flat = [[x for part in p for x in part] for p in packed]
+    return _many(natives, flat, t_end, "dop853", rtol, atol, None, inversion_level, threads,
+                 progress)  # fmt: skip
 
 
 PIECE = 64
@@ -198,54 +205,21 @@ def _in_pieces(native, progress, tops, states, *args):
     }
 
 
-def _t_end(t_end):
-    t_end = real("t_end", t_end)
-    if t_end < 0:
-        raise ParameterError(f"t_end = {t_end} is not allowed: it must be >= 0")
-    return t_end
-
-
 def _heavy_runs(models, states):
     """(native tops, (q, omega) states) of a batch of heavy tops, broadcast and checked."""
-    ms, ss = _broadcast(
-        models, states, _Rigid, lambda s: not isinstance(s, (list, tuple, np.ndarray))
-    )
-    for m in ms:
-        if not isinstance(m, _Rigid):
-            raise ParameterError(
-                f"models contains {m!r}, which is not allowed: use HeavyTop or LagrangeTop "
-                "(one kind per batch)"
-            )
-    rs = [rigid_state(s) for s in ss]
-    return [m._heavy_native() for m in ms], [(list(r.quaternion), list(r.omega)) for r in rs]
-
-
-def _heavy_many(models, states, t_end, method, rtol, atol, dt, threads, progress):
-    natives, packed = _heavy_runs(models, states)
-    if not isinstance(method, str):
-        raise ParameterError(f"method = {method!r} is not allowed: give a method name")
-    out = _in_pieces(
-        _core.heavy_many,
-        progress,
-        natives,
-        packed,
-        _t_end(t_end),
-        method,
-        real("rtol", rtol),
-        real("atol", atol),
-        None if dt is None else real("dt", dt),
-        _threads(threads),
-    )
-    steps = np.nan_to_num(out.pop("steps"), nan=0.0).astype(np.int64)
-    errors = tuple(out.pop("errors"))
-    return HeavyBatchSummary(**out, steps=steps, errors=errors)
+    natives, flat = _natives(models, states)
+    if natives and not isinstance(natives[0], _core.HeavyTop):
+        raise ParameterError(
+            f"models contains {models!r}, which is not allowed: use HeavyTop or LagrangeTop"
+        )
+    return natives, [(s[:4], s[4:]) for s in flat]
 
 
 def _lyapunov_many(models, states, t_end, *, tau, d0, direction, rtol, atol, threads=None):
     """Largest Lyapunov exponents of heavy tops in parallel: (exponents, errors)."""
     out = _core.lyapunov_many(
         *_heavy_runs(models, states),
-        _t_end(t_end),
+        real("t_end", t_end),
         real("tau", tau),
         real("d0", d0),
         [real("direction", x) for x in direction],

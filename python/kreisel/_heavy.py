@@ -98,6 +98,14 @@ class _Rigid:
         qq, ww = self._heavy_native().check_rigid(_vector("q", q, 4), _vector("omega", omega, 3))
         return RigidState(np.array(qq), np.array(ww))
 
+    def _native_model(self):
+        return self._heavy_native()
+
+    def _native_state(self, state) -> list:
+        """The flat numbers (q, omega) the core takes."""
+        s = rigid_state(state)
+        return [*np.asarray(s.quaternion, dtype=float), *np.asarray(s.omega, dtype=float)]
+
     def invariants(self, state) -> dict:
         """``{"energy", "Mz"}`` and, where they are integrals, ``"M3"`` and
         ``"kovalevskaya"``, of a state."""

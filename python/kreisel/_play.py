@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import functools
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -251,6 +250,13 @@ class PlayTop:
             )
         return state._packed()
 
+    def _native_model(self):
+        return self._native
+
+    def _native_state(self, state) -> list:
+        """The flat numbers (q, omega, com, com_velocity) the core takes."""
+        return [x for part in self._check(state) for x in part]
+
     def jellett(self, state) -> float:
         """Jellett's integral J = L.(s e3 + rho ez) (kg m^2/s)."""
         return self._native.invariants(self._check(state))[0]
@@ -295,82 +301,3 @@ class PlayTop:
         """Nutation period (s) of the frictionless motion from a contact state:
         ``udot^2 = F(u) / (1 + (m s^2/A)(1 - u^2))``, so longer than the Lagrange top's."""
         return _atlas.frictionless_nutation_period(self, state)
-
-
-def _tolerances(rtol, atol):
-    rtol, atol = real("rtol", rtol), real("atol", atol)
-    if not 1e-15 <= rtol < 1:
-        raise ParameterError(f"rtol = {rtol} is not allowed: it must lie in [1e-15, 1)")
-    if not atol > 0:
-        raise ParameterError(f"atol = {atol} is not allowed: it must be > 0")
-    return rtol, atol
-
-
-# Contact modes by the core's codes (0 slip, 1 roll, 2 flight).
-_MODE_NAMES = np.array(["slip", "roll", "flight"])
-# Columns derived from the states, computed when first read (see _diagnostics).
-_DIAGNOSTICS = (
-    "theta", "phi", "psi", "u", "contact_point", "slip_velocity", "slip_speed", "normal_force",
-    "jellett",
-)  # fmt: skip
-_ENERGIES = ("energy_translation", "energy_rotation", "energy_potential", "energy")
-
-
-def _diagnostics(run) -> dict[str, np.ndarray]:
-    """The diagnostics columns of a native play-top run (``_DIAGNOSTICS`` and ``_ENERGIES``)."""
-    cols = run.columns()
-    parts = cols.pop("energy_parts")
-    cols["energy_translation"] = parts[:, 0]
-    cols["energy_rotation"] = parts[:, 1]
-    cols["energy_potential"] = parts[:, 2]
-    cols["energy"] = parts.sum(axis=1)
-    return cols
-
-
-def simulate_play(model: PlayTop, state, t_end, *, method, rtol, atol, t_eval, events):
-    """The play-top branch of :func:`kreisel.simulate`."""
-    from ._simulate import Event, EventRecord
-    from ._trajectory import Deferred, Trajectory
-    from ._validate import times
-
-    if method != "dop853":
-        raise ParameterError(
-            f"method = {method!r} is not allowed for a PlayTop: its contact modes, events "
-            "and impacts need the adaptive 'dop853'"
-        )
-    packed = model._check(state)
-    t_end = real("t_end", t_end)
-    if t_end < 0:
-        raise ParameterError(f"t_end = {t_end} is not allowed: it must be >= 0")
-    rtol, atol = _tolerances(rtol, atol)
-    te = None if t_eval is None else times("t_eval", t_eval)
-    if te is not None and (np.any(np.diff(te) < 0) or te[0] < 0 or te[-1] > t_end):
-        raise ParameterError(
-            f"t_eval is not allowed: output times must be ascending and lie in [0, {t_end}]"
-        )
-    level, stop_inv, stop_rest = None, False, False
-    for e in events or []:
-        kind = getattr(e, "_builtin", None)
-        if not isinstance(e, Event) or kind is None or kind[0] not in ("inversion", "rest"):
-            raise ParameterError(
-                f"events contains {e!r}, which is not allowed for a PlayTop: use "
-                "kreisel.events.inversion(level) or kreisel.events.rest()"
-            )
-        if kind[0] == "inversion":
-            level, stop_inv = kind[1], e.terminal
-        else:
-            stop_rest = True
-    out = model._native.simulate(packed, t_end, rtol, atol, te, level, stop_inv, stop_rest)
-    stats = out.pop("stats")
-    hits = out.pop("events")
-    later = Deferred(functools.partial(_diagnostics, out.pop("run")))
-    cols = {k: out[k] for k in ("quaternion", "omega", "com", "com_velocity", "dissipated")}
-    cols.update(dict.fromkeys(_DIAGNOSTICS, later))
-    cols["mode"] = _MODE_NAMES[out["mode"]]
-    cols["t"] = out["t"]
-    cols.update(dict.fromkeys(_ENERGIES, later))
-    names = [
-        "slip_to_roll", "roll_to_slip", "lift_off", "touchdown", "inversion", "rest",
-    ]  # fmt: skip
-    records = [EventRecord(name, t, names.index(name)) for name, t in hits]
-    return Trajectory(cols, model=model, state=state, method=method, stats=stats, events=records)

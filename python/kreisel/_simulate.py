@@ -9,8 +9,7 @@ import numpy as np
 
 from . import _core
 from ._errors import ParameterError
-from ._heavy import RigidState, _Rigid, rigid_state
-from ._play import PlayTop, simulate_play
+from ._heavy import RigidState
 from ._trajectory import Deferred, Trajectory
 from ._validate import real, times
 
@@ -41,7 +40,9 @@ def _methods_by_name() -> dict[str, MethodInfo]:
 
 @dataclass(frozen=True)
 class EventRecord:
-    """An event that happened: its name, time (s) and index in the ``events`` list."""
+    """An event that happened: its name, time (s) and index in the ``events`` list (-1 for
+    the model's own events: a play top's contact switches ``lift_off``, ``touchdown``,
+    ``slip_to_roll`` and ``roll_to_slip``)."""
 
     name: str
     t: float
@@ -94,6 +95,34 @@ def _native_event(ev: Event):
     return (ev.name, "user", call, 0.0, ev.direction, ev.terminal)
 
 
+def _settings(t_end, method, rtol, atol, dt, events):
+    """The settings' types, converted (the core checks their values)."""
+    if not isinstance(method, str):
+        raise ParameterError(f"method = {method!r} is not allowed: give a method name")
+    evs = list(events or [])
+    for e in evs:
+        if not isinstance(e, Event):
+            raise ParameterError(f"events contains {e!r}, which is not allowed: use kreisel.Event")
+    return (
+        real("t_end", t_end),
+        method,
+        real("rtol", rtol),
+        real("atol", atol),
+        None if dt is None else real("dt", dt),
+        evs,
+    )
+
+
+def native_model(model, name="model"):
+    """The native model of a top and the function that gives its native states."""
+    to_native = getattr(model, "_native_state", None)
+    if to_native is None:
+        raise TypeError(
+            f"{name} must be a HeavyTop, LagrangeTop or PlayTop, not {type(model).__name__}"
+        )
+    return model._native_model(), to_native
+
+
 def simulate(
     model,
     state,
@@ -118,6 +147,7 @@ def simulate(
     method : str
         One of :func:`methods`: ``"dop853"`` (adaptive, default), ``"rk4"``, ``"splitting"``,
         ``"splitting4"``, ``"splitting6"``, ``"verlet"``, ``"midpoint"``, ``"gauss4"``.
+        Play tops: ``"dop853"`` only.
     rtol, atol : float
         Tolerances of the adaptive method.
     dt : float
@@ -134,64 +164,34 @@ def simulate(
     -------
     Trajectory
         Columns ``t`` (n,), ``quaternion`` (n, 4), ``omega`` (n, 3, body frame), ``theta``,
-        ``phi``, ``psi`` (unwrapped), ``energy``, ``Mz`` and, where they are integrals,
-        ``M3`` and ``kovalevskaya``; attributes ``events`` (list of EventRecord) and ``stats``.
+        ``phi``, ``psi`` (unwrapped), and the model's diagnostics: for heavy tops ``energy``,
+        ``Mz`` and, where they are integrals, ``M3`` and ``kovalevskaya``; for play tops
+        ``com``, ``com_velocity``, ``u``, ``mode``, ``normal_force``, ``jellett``, ... .
+        Attributes ``events`` (list of EventRecord), ``stats`` and ``status``
+        (``"completed"``, ``"event"`` or ``"interrupted"``).
     """
-    if isinstance(model, PlayTop):
-        return simulate_play(
-            model, state, t_end, method=method, rtol=rtol, atol=atol, t_eval=t_eval, events=events
-        )
-    if not isinstance(model, _Rigid):
-        raise TypeError(
-            f"model must be a HeavyTop, LagrangeTop or PlayTop, not {type(model).__name__}"
-        )
-    s = rigid_state(state)
-    t_end = real("t_end", t_end)
-    if t_end < 0:
-        raise ParameterError(f"t_end = {t_end} is not allowed: it must be >= 0")
-    if not isinstance(method, str):
-        raise ParameterError(f"method = {method!r} is not allowed: give a method name")
-    known = _methods_by_name()
-    if method not in known:
-        raise ParameterError(
-            f"method = {method!r} is not allowed: known methods are {', '.join(known)}"
-        )
-    info = known[method]
-    rtol, atol = real("rtol", rtol), real("atol", atol)
-    if dt is not None:
-        dt = real("dt", dt)
+    native, to_native = native_model(model)
+    y0 = to_native(state)
+    t_end, method, rtol, atol, dt, evs = _settings(t_end, method, rtol, atol, dt, events)
     te = None if t_eval is None else times("t_eval", t_eval)
-    evs = list(events or [])
-    for e in evs:
-        if not isinstance(e, Event):
-            raise ParameterError(f"events contains {e!r}, which is not allowed: use kreisel.Event")
-    if evs and not info.events:
-        raise ParameterError(
-            f"events = {evs!r} is not allowed with method {method!r}: "
-            "event location needs dense output; use method='dop853'"
-        )
-    if reduced:
-        from ._lagrange import LagrangeTop
-
-        if not isinstance(model, LagrangeTop):
-            raise ParameterError("reduced = True is not allowed: it needs a LagrangeTop")
-    native = model._heavy_native()
-    out = native.simulate(
-        np.asarray(s.quaternion).tolist(),
-        np.asarray(s.omega).tolist(),
-        t_end,
-        method,
-        rtol,
-        atol,
-        dt,
-        te,
-        [_native_event(e) for e in evs],
+    out = _core.simulate(
+        native, y0, t_end, method, rtol, atol, dt, te, [_native_event(e) for e in evs],
         bool(reduced),
+    )  # fmt: skip
+    stats, status = out.pop("stats"), out.pop("status")
+    records = [EventRecord(name, t, index) for name, t, index in out.pop("events")]
+    later = Deferred(out.pop("run").columns)
+    cols = dict.fromkeys(out.pop("derived"), later)
+    if "mode" in out:
+        cols["mode"] = np.array(names()["modes"])[out.pop("mode")]
+    cols.update(out)
+    return Trajectory(
+        cols, model=model, state=state, method=method, stats=stats, events=records, status=status
     )
-    stats = out.pop("stats")
-    hits = out.pop("events")
-    # Copies: the diagnostics stay those of the simulated states if a column is edited in place.
-    q, w = out["quaternion"].copy(), out["omega"].copy()
-    out.update(dict.fromkeys(out.pop("derived"), Deferred(lambda: native.columns(q, w))))
-    records = [EventRecord(evs[i].name, t, i) for i, t in hits]
-    return Trajectory(out, model=model, state=state, method=method, stats=stats, events=records)
+
+
+@functools.cache
+def names() -> dict:
+    """Every public name of the core: contact modes, kinds of motion, summaries (with units
+    and descriptions) and run statuses."""
+    return _core.names()

@@ -125,7 +125,7 @@ class Trajectory:
 
     def _meta_attrs(self) -> dict[str, str]:
         out = {}
-        for key in ("model", "state", "method"):
+        for key in ("model", "state", "method", "status"):
             if key in self._meta:
                 out[key] = str(self._meta[key])
         return out

@@ -8,7 +8,7 @@ use kreisel_core::models::heavy_top::HeavyTop;
 use kreisel_core::models::heavy_top::RigidState;
 use kreisel_core::models::lagrange::LagrangeTop;
 use kreisel_core::rotation::{omega_body_from_euler, quaternion_from_euler};
-use kreisel_core::simulate::{columns, simulate, Settings};
+use kreisel_core::simulate::{simulate, Settings};
 use std::time::Instant;
 
 /// FNV-1a over the bits of a sequence of floats.
@@ -29,8 +29,7 @@ fn main() {
         t_end: 100.0,
         rtol: 1e-10,
         atol: 1e-12,
-        dt: None,
-        t_eval: None,
+        ..Settings::default()
     };
     let (mut a, mut b) = (f64::MAX, f64::MAX);
     let reps: usize = std::env::var("REPS")
@@ -40,9 +39,9 @@ fn main() {
     let mut last = None;
     for _ in 0..reps {
         let t0 = Instant::now();
-        let out = simulate(&top, &s0, &st, &mut [], false, &mut |_| true).unwrap();
+        let out = simulate(&top, &s0, &st, &mut [], &mut |_| true).unwrap();
         let t1 = Instant::now();
-        let c = columns(&top, &out.states);
+        let c = top.columns(&out.rows);
         let t2 = Instant::now();
         a = a.min((t1 - t0).as_secs_f64());
         b = b.min((t2 - t1).as_secs_f64());
@@ -51,12 +50,12 @@ fn main() {
     }
     println!("integrate {:.3} ms, columns {:.3} ms", a * 1e3, b * 1e3);
     if let Some((out, c)) = last {
-        let states = out.states.iter().flat_map(|s| s.q.0.iter().chain(&s.omega));
+        let states = out.rows.iter().flat_map(|s| s.q.0.iter().chain(&s.omega));
         let cols = [&c.theta, &c.phi, &c.psi, &c.energy, &c.mz];
         let m3 = c.m3.iter().flatten();
         println!(
             "{:?}, checksum: states {:016x}, columns {:016x}",
-            out.stats,
+            out.info.stats,
             checksum(out.t.iter().chain(states)),
             checksum(cols.into_iter().flatten().chain(m3)),
         );

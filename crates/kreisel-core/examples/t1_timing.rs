@@ -1,7 +1,7 @@
 //! Times benchmark case T1 in the core alone: the simulation, then the diagnostics columns.
 use kreisel_core::models::play_top::{Friction, PlayTop, DIM};
 use kreisel_core::rotation::{omega_body_from_euler, quaternion_from_euler};
-use kreisel_core::simulate_play::{play_columns, simulate_play, PlaySettings};
+use kreisel_core::simulate::{simulate, Settings};
 use std::time::Instant;
 fn main() {
     let (m, rho, s) = (0.02, 0.02, 0.006);
@@ -24,14 +24,11 @@ fn main() {
     let q = quaternion_from_euler(0.0, th, 0.0);
     let w = omega_body_from_euler(th, 0.0, 0.0, 0.0, 150.0);
     let y0 = top.state(q, w, 0.0, 0.0, None).unwrap();
-    let st = PlaySettings {
+    let st = Settings {
         t_end: 12.0,
         rtol: 1e-9,
         atol: 1e-12,
-        t_eval: None,
-        inversion_level: None,
-        stop_at_inversion: false,
-        stop_at_rest: false,
+        ..Settings::default()
     };
     let reps: usize = std::env::var("REPS")
         .ok()
@@ -42,15 +39,15 @@ fn main() {
     let mut last: [f64; DIM] = y0;
     for _ in 0..reps {
         let t0 = Instant::now();
-        let out = simulate_play(&top, y0, &st).unwrap();
+        let out = simulate(&top, &y0, &st, &mut [], &mut |_| true).unwrap();
         let t1 = Instant::now();
-        let c = play_columns(&top, &out.y, &out.mode, &out.dir);
+        let c = top.columns(&out.rows);
         let t2 = Instant::now();
         a = a.min((t1 - t0).as_secs_f64());
         b = b.min((t2 - t1).as_secs_f64());
         assert!(c.u.len() == out.t.len());
-        steps = out.steps;
-        last = *out.y.last().unwrap();
+        steps = out.info.stats.steps;
+        last = out.rows.last().unwrap().y;
     }
     println!(
         "integrate {:.3} ms, columns {:.3} ms, steps {steps}, final u {:.9}",

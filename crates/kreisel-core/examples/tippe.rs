@@ -1,6 +1,6 @@
 use kreisel_core::models::play_top::{Friction, PlayTop, DIM};
 use kreisel_core::rotation::{omega_body_from_euler, quaternion_from_euler};
-use kreisel_core::simulate_play::{simulate_play, PlaySettings};
+use kreisel_core::simulate::{simulate, EventDef, EventKind, Settings};
 fn main() {
     let (m, rho, s) = (0.02, 0.02, 0.006);
     let c = 0.4 * m * rho * rho;
@@ -18,25 +18,30 @@ fn main() {
     y[..4].copy_from_slice(&q.0);
     y[4..7].copy_from_slice(&w);
     y[9] = rho + s * th.cos();
-    let st = PlaySettings {
+    let st = Settings {
         t_end: 12.0,
         rtol: 1e-9,
         atol: 1e-12,
         t_eval: Some((0..=24).map(|i| i as f64 * 0.5).collect()),
-        inversion_level: Some(0.9),
-        stop_at_inversion: false,
-        stop_at_rest: false,
+        events: vec![EventDef {
+            name: "inversion".into(),
+            kind: EventKind::Inversion(0.9),
+            direction: 1,
+            terminal: false,
+        }],
+        ..Settings::default()
     };
     let t0 = std::time::Instant::now();
-    let out = simulate_play(&top, y, &st).unwrap();
+    let out = simulate(&top, &y, &st, &mut [], &mut |_| true).unwrap();
     println!(
         "time {:?} steps {} events {:?}",
         t0.elapsed(),
-        out.steps,
-        &out.events[..out.events.len().min(12)]
+        out.info.stats.steps,
+        &out.info.events[..out.info.events.len().min(12)]
     );
-    let j0 = top.jellett(&out.y[0]);
-    for (t, (yy, md)) in out.t.iter().zip(out.y.iter().zip(&out.mode)) {
+    let j0 = top.jellett(&out.rows[0].y);
+    for (t, row) in out.t.iter().zip(&out.rows) {
+        let (yy, md) = (&row.y, &row.mode);
         let (a, b, cc) = top.energy_parts(yy);
         println!(
             "{t:5.2} u={:+.5} J rel={:+.2e} E+D={:.12e} mode={:?} N={:.4e}",
@@ -46,7 +51,7 @@ fn main() {
             md,
             {
                 let mut dy = [0.0; DIM];
-                top.dynamics(*md, yy, out.dir[0], &mut dy).n
+                top.dynamics(*md, yy, row.dir, &mut dy).n
             }
         );
     }

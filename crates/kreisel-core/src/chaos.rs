@@ -135,13 +135,13 @@ pub fn lyapunov(top: &HeavyTop, s0: &RigidState, settings: &LyapunovSettings) ->
         t_end: tau,
         rtol: settings.rtol,
         atol: settings.atol,
-        dt: None,
         t_eval: Some(vec![tau]),
+        ..Settings::default()
     };
-    simulate::check(&seg, &simulate::method("dop853")?)?;
+    simulate::check(top, &seg, 0)?;
     let advance = |s: &RigidState| -> Result<RigidState> {
-        let out = simulate::simulate(top, s, &seg, &mut [], false, &mut |_| true)?;
-        out.states
+        let out = simulate::simulate(top, s, &seg, &mut [], &mut |_| true)?;
+        out.rows
             .last()
             .copied()
             .ok_or_else(|| KreiselError::Numerical("no state at the segment's end".into()))

@@ -3,19 +3,23 @@
 //! - [`special`]: Jacobi elliptic functions, elliptic integrals, polynomial roots and
 //!   piecewise Chebyshev interpolation.
 //! - [`models::lagrange`]: the heavy symmetric top on a fixed pivot, solved exactly.
-//! - [`stability`]: steady precession, small nutations and the sleeping top.
+//! - [`models::heavy_top`], [`models::play_top`]: every heavy top on a pivot, and the play
+//!   top on a plane, each with all of its physics (equations, contact, its driver).
+//! - [`stability`]: steady precession, small nutations and the sleeping top; the play top's
+//!   stationary motions and the (alpha, gamma) atlas.
+//! - [`simulate`]: one vocabulary for every model (settings, solution, events, summaries,
+//!   the model trait) and the parallel batch.
+//! - [`integrate`]: the general integrators (no model imported).
 //!
 //! Conventions (SI units, radians, Euler angles z-x-z with theta from the upward vertical)
 //! are those of the project's PHYSICS notes.
 
-pub mod batch;
 pub mod chaos;
 pub mod error;
 pub mod integrate;
 pub mod models;
 pub mod rotation;
 pub mod simulate;
-pub mod simulate_play;
 pub mod special;
 pub mod stability;
 

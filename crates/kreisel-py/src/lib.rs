@@ -5,6 +5,7 @@ mod errors;
 mod heavy;
 mod lagrange;
 mod play;
+mod simulate;
 mod special;
 mod stability;
 
@@ -15,10 +16,11 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<lagrange::PyLagrangeTop>()?;
     m.add_class::<heavy::PyHeavyTop>()?;
     m.add_class::<play::PyPlayTop>()?;
-    m.add_class::<play::PyPlayRun>()?;
+    m.add_class::<simulate::PyRun>()?;
     m.add_class::<stability::PyPlayStability>()?;
-    m.add_function(wrap_pyfunction!(batch::play_many, m)?)?;
-    m.add_function(wrap_pyfunction!(batch::heavy_many, m)?)?;
+    m.add_function(wrap_pyfunction!(simulate::simulate, m)?)?;
+    m.add_function(wrap_pyfunction!(simulate::many, m)?)?;
+    m.add_function(wrap_pyfunction!(simulate::names, m)?)?;
     m.add_function(wrap_pyfunction!(batch::lyapunov_many, m)?)?;
     m.add_function(wrap_pyfunction!(lagrange::check_euler_state, m)?)?;
     m.add_function(wrap_pyfunction!(heavy::rigid_from_euler, m)?)?;

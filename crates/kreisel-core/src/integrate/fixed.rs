@@ -13,8 +13,12 @@ pub trait FixedScheme {
     fn step(&self, y: &mut Self::Y, h: f64) -> Result<()>;
 }
 
+/// How often (in steps) a fixed-step run asks whether to go on.
+const ASK_EVERY: u64 = 1024;
+
 /// Runs a scheme. `record(t, &y)` is called at t = 0 and at every output time.
-/// `progress(fraction)` is called now and then (it may return false to cancel).
+/// `keep_going(t)` is asked every 1024 steps; false stops the run there. Returns the steps
+/// taken and whether the run reached `t_end`.
 pub fn run<S: FixedScheme>(
     scheme: &S,
     y0: S::Y,
@@ -22,10 +26,11 @@ pub fn run<S: FixedScheme>(
     dt: f64,
     t_eval: Option<&[f64]>,
     mut record: impl FnMut(f64, &S::Y),
-) -> Result<()> {
+    keep_going: &mut dyn FnMut(f64) -> bool,
+) -> Result<(u64, bool)> {
     if t_end == 0.0 {
         record(0.0, &y0);
-        return Ok(());
+        return Ok((0, true));
     }
     let n = ((t_end / dt) * (1.0 - 1e-12)).ceil().max(1.0) as u64;
     let mut y = y0;
@@ -65,9 +70,13 @@ pub fn run<S: FixedScheme>(
                 }
             }
         }
+        if (k + 1) % ASK_EVERY == 0 && k + 1 < n && !keep_going(t) {
+            return Ok((k + 1, false));
+        }
     }
     if let Some(te) = t_eval {
         if next < te.len() {
+            // (unreachable for checked settings)
             return Err(KreiselError::invalid(
                 "t_eval",
                 te[next],
@@ -75,5 +84,5 @@ pub fn run<S: FixedScheme>(
             ));
         }
     }
-    Ok(())
+    Ok((n, true))
 }

@@ -57,8 +57,6 @@ pub mod events;
 pub mod fixed;
 pub mod implicit;
 pub mod rk4;
-pub mod splitting;
-pub mod verlet;
 
 pub use dop853::{Dop853, Dop853Dense, Dop853Work};
 pub use events::{Event, EventFn, EventSpec, Locator, WithEvents};
@@ -387,6 +385,88 @@ impl<const N: usize> Observer<N> for Recorder<'_, '_, N> {
         }
         if let Some(s) = self.sample.as_mut() {
             let _ = s.step(t, y, dense);
+        }
+        let go = self.keep_going.as_mut().is_none_or(|k| k(t));
+        if go {
+            ControlFlow::Continue(())
+        } else {
+            ControlFlow::Break(())
+        }
+    }
+}
+
+/// Hands each output state to `out`: every accepted step (with the initial state unless
+/// `skip_start`), or the values at requested times exactly as [`SampleAt`] takes them; and
+/// stops the run when `keep_going(t)` says so. Nothing is kept: a run's memory does not
+/// grow with its length.
+pub struct Stream<'a, 'b, F, const N: usize> {
+    times: Option<&'a [f64]>,
+    /// Requested times handed out so far.
+    pub taken: usize,
+    skip_start: bool,
+    keep_going: Option<&'b mut dyn FnMut(f64) -> bool>,
+    out: F,
+}
+
+impl<'a, 'b, F: FnMut(f64, &[f64; N]), const N: usize> Stream<'a, 'b, F, N> {
+    /// A stream of `times` if given, else of every step.
+    pub fn new(
+        times: Option<&'a [f64]>,
+        skip_start: bool,
+        keep_going: Option<&'b mut dyn FnMut(f64) -> bool>,
+        out: F,
+    ) -> Self {
+        Stream {
+            times,
+            taken: 0,
+            skip_start,
+            keep_going,
+            out,
+        }
+    }
+}
+
+impl<F: FnMut(f64, &[f64; N]), const N: usize> Observer<N> for Stream<'_, '_, F, N> {
+    fn start(&mut self, t0: f64, y0: &[f64; N]) {
+        match self.times {
+            None => {
+                if !self.skip_start {
+                    (self.out)(t0, y0);
+                }
+            }
+            Some(times) => {
+                while let Some(&ts) = times.get(self.taken) {
+                    if ts < t0 {
+                        (self.out)(ts, &[f64::NAN; N]);
+                    } else if ts == t0 {
+                        (self.out)(ts, y0);
+                    } else {
+                        break;
+                    }
+                    self.taken += 1;
+                }
+            }
+        }
+    }
+
+    fn step(&mut self, t: f64, y: &[f64; N], dense: &dyn Dense<N>) -> ControlFlow<()> {
+        match self.times {
+            None => (self.out)(t, y),
+            Some(times) => {
+                while let Some(&ts) = times.get(self.taken) {
+                    if ts > t {
+                        break;
+                    }
+                    if ts == t {
+                        (self.out)(ts, y);
+                    } else {
+                        let mut v = [0.0; N];
+                        dense.eval(ts, &mut v);
+                        (self.out)(ts, &v);
+                    }
+                    self.taken += 1;
+                }
+            }
         }
         let go = self.keep_going.as_mut().is_none_or(|k| k(t));
         if go {

@@ -62,8 +62,20 @@ pub enum MotionKind {
 }
 
 impl MotionKind {
+    /// Every kind, in the order of their codes in a sweep.
+    pub const ALL: [MotionKind; 8] = [
+        MotionKind::Sleeping,
+        MotionKind::Hanging,
+        MotionKind::RegularPrecession,
+        MotionKind::Waves,
+        MotionKind::Cusps,
+        MotionKind::Loops,
+        MotionKind::ThroughVertical,
+        MotionKind::Asymptotic,
+    ];
+
     /// The public name of the kind.
-    pub fn name(&self) -> &'static str {
+    pub const fn name(&self) -> &'static str {
         match self {
             MotionKind::Sleeping => "sleeping",
             MotionKind::Hanging => "hanging",

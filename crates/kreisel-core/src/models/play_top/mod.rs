@@ -12,6 +12,14 @@
 //! from the rolling constraint, while it stays in the Coulomb cone), and free flight.
 //! Newton-Euler about G: `m dv/dt = F - m g ez`, `dL/dt = a x F` (+ optional resistance
 //! torques), `L = A omega + (C - A)(omega . e3) e3`.
+//!
+//! - this file: the parameters, the kinematics and the equations of motion in each mode;
+//! - [`contact`]: the contact rules (modes, switches and their events, impacts);
+//! - [`simulate`]: the driver behind `simulate::simulate` for play tops, its diagnostics
+//!   columns and its summary.
+
+pub mod contact;
+pub mod simulate;
 
 use crate::error::{finite, non_negative, positive, KreiselError, Result};
 use crate::rotation::{cross, dot, Quat};
@@ -81,8 +89,11 @@ pub enum Mode {
 }
 
 impl Mode {
+    /// Every mode, by code.
+    pub const ALL: [Mode; 3] = [Mode::Slip, Mode::Roll, Mode::Flight];
+
     /// The public name.
-    pub fn name(&self) -> &'static str {
+    pub const fn name(&self) -> &'static str {
         match self {
             Mode::Slip => "slip",
             Mode::Roll => "roll",
@@ -439,56 +450,6 @@ impl PlayTop {
         }
     }
 
-    /// The change of the velocity of the material point at T caused by an impulse `p` at
-    /// T (space frame): `p/m + (I^-1 (a x p)) x a`.
-    fn tip_velocity_change(&self, k: &Kin, p: [f64; 3]) -> [f64; 3] {
-        let pb = k.to_body(p);
-        let dw = self.inv_inertia(cross(k.a_b, pb));
-        add(scale(1.0 / self.m, p), k.to_space(cross(dw, k.a_b)))
-    }
-
-    /// The contact's inverse effective mass: the matrix of [`Self::tip_velocity_change`].
-    fn collision_matrix(&self, k: &Kin) -> [[f64; 3]; 3] {
-        let cols = [
-            self.tip_velocity_change(k, [1.0, 0.0, 0.0]),
-            self.tip_velocity_change(k, [0.0, 1.0, 0.0]),
-            self.tip_velocity_change(k, [0.0, 0.0, 1.0]),
-        ];
-        [
-            [cols[0][0], cols[1][0], cols[2][0]],
-            [cols[0][1], cols[1][1], cols[2][1]],
-            [cols[0][2], cols[1][2], cols[2][2]],
-        ]
-    }
-
-    /// The friction impulse that stops the remaining (numerically small) slip when rolling
-    /// begins, with the energy it takes added to the dissipated energy. Unlike simply
-    /// setting the velocity of G, it keeps Jellett's integral and never adds energy.
-    pub fn stick(&self, y: &[f64; DIM]) -> [f64; DIM] {
-        let k = self.kin(y);
-        let mat = self.collision_matrix(&k);
-        let p = solve3(mat, [-k.v_t[0], -k.v_t[1], -k.v_t[2]]);
-        let (mut out, loss) = self.apply_impulse(y, &k, p);
-        // Rounding may show a gain of ~1e-18 J: stopping a slip can only take energy.
-        out[13] += loss.max(0.0);
-        out
-    }
-
-    /// The state after an impulse `p` (space frame) at the contact point, and the kinetic
-    /// energy the impulse took.
-    fn apply_impulse(&self, y: &[f64; DIM], k: &Kin, p: [f64; 3]) -> ([f64; DIM], f64) {
-        let pb = k.to_body(p);
-        let dw = self.inv_inertia(cross(k.a_b, pb));
-        let mut out = *y;
-        for i in 0..3 {
-            out[4 + i] += dw[i];
-            out[10 + i] += p[i] / self.m;
-        }
-        let (t0, r0, _) = self.energy_parts(y);
-        let (t1, r1, _) = self.energy_parts(&out);
-        (out, (t0 + r0) - (t1 + r1))
-    }
-
     /// Largest step in flight: a tenth of the time to fall through the tip's radius, and a
     /// quarter radian of rotation, so that the touchdown of a short hop is never stepped
     /// over (an event inside one step is located only if the sign differs at its ends).
@@ -668,85 +629,6 @@ impl PlayTop {
         self.s * l[2] + self.rho * dot(l, q.up_in_body())
     }
 
-    /// Puts a contact state exactly on the constraint: height and vertical velocity of G
-    /// from the orientation (and in rolling, the whole velocity of G from the no-slip
-    /// condition). Normalises the quaternion.
-    pub fn project(&self, mode: Mode, y: &mut [f64; DIM]) {
-        let n = (y[0] * y[0] + y[1] * y[1] + y[2] * y[2] + y[3] * y[3]).sqrt();
-        for v in y.iter_mut().take(4) {
-            *v /= n;
-        }
-        if mode == Mode::Flight {
-            return;
-        }
-        let k = self.kin(y);
-        y[9] = self.rho + self.s * k.u;
-        if mode == Mode::Roll {
-            let v = scale(-1.0, k.to_space(cross(k.w, k.a_b)));
-            y[10..13].copy_from_slice(&v);
-        } else {
-            // d/dt (rho + s u) with du/dt = (Gamma x omega)_3.
-            y[12] = self.s * cross(k.gamma, k.w)[2];
-        }
-    }
-
-    /// The contact force rolling would need, and whether it lies in the Coulomb cone.
-    pub fn roll_admissible(&self, y: &[f64; DIM]) -> (bool, Contact) {
-        let mut dy = [0.0; DIM];
-        let c = self.dynamics(Mode::Roll, y, [0.0; 3], &mut dy);
-        let ok = match self.friction {
-            Friction::Coulomb { mu } => {
-                c.n >= 0.0 && (c.ft[0] * c.ft[0] + c.ft[1] * c.ft[1]).sqrt() <= mu * c.n
-            }
-            _ => false,
-        };
-        (ok, c)
-    }
-
-    /// The impact at touchdown with restitution and a Coulomb friction impulse: the impulse
-    /// that stops the slip of T (and reverses its normal velocity times the restitution)
-    /// if it lies in the friction cone, else a sliding impulse against the slip.
-    /// Returns the new state and whether the contact sticks (no slip after the impact).
-    pub fn impact(&self, y: &[f64; DIM]) -> ([f64; DIM], bool) {
-        self.impact_with(y, self.restitution)
-    }
-
-    /// [`PlayTop::impact`] with a given coefficient of restitution.
-    pub fn impact_with(&self, y: &[f64; DIM], e: f64) -> ([f64; DIM], bool) {
-        let k = self.kin(y);
-        let vn = k.v_t[2];
-        // Velocity change of T per unit impulse P (space frame): P/m + (I^-1 (a x P)) x a.
-        let kmat = |p: [f64; 3]| self.tip_velocity_change(&k, p);
-        let mat = self.collision_matrix(&k);
-        let target = [-k.v_t[0], -k.v_t[1], -(1.0 + e) * vn];
-        let mut p = solve3(mat, target);
-        let mut sticks = true;
-        let mu = match self.friction {
-            Friction::Coulomb { mu } => mu,
-            Friction::Viscous { .. } | Friction::Frictionless => 0.0,
-        };
-        let pt = (p[0] * p[0] + p[1] * p[1]).sqrt();
-        if matches!(self.friction, Friction::Coulomb { .. }) && pt <= mu * p[2] {
-            // sticking impulse accepted
-        } else {
-            sticks = false;
-            let sp = (k.v_t[0] * k.v_t[0] + k.v_t[1] * k.v_t[1]).sqrt();
-            let dir = if sp > 0.0 {
-                [k.v_t[0] / sp, k.v_t[1] / sp, 0.0]
-            } else {
-                [0.0; 3]
-            };
-            let d = [-mu * dir[0], -mu * dir[1], 1.0];
-            let kd = kmat(d);
-            let pn = -(1.0 + e) * vn / kd[2];
-            p = scale(pn, d);
-        }
-        let (mut out, loss) = self.apply_impulse(y, &k, p);
-        out[13] += loss;
-        // The impact happens on the floor.
-        out[9] = self.rho + self.s * k.u;
-        (out, sticks)
-    }
 }
 
 impl PlayTop {

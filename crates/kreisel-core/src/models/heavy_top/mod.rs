@@ -10,6 +10,17 @@
 //! theta = 0 or pi is no singularity. Integrals: `E = omega.M / 2 + m g c.Gamma`,
 //! `Mz = M.Gamma`; for the Lagrange top also `M3`; for the Kovalevskaya top her quartic
 //! integral.
+//!
+//! - [`equations`]: the first-order systems for the general-purpose integrators;
+//! - [`splitting`]: the explicit Lie-Poisson splittings (exact sub-flows);
+//! - [`verlet`]: Stoermer-Verlet on the Euler-angle Hamiltonian;
+//! - [`simulate`]: the driver behind `simulate::simulate` for heavy tops, its columns and
+//!   its summary.
+
+pub mod equations;
+pub mod simulate;
+pub mod splitting;
+pub mod verlet;
 
 use crate::error::{finite, non_negative, positive, KreiselError, Result};
 use crate::models::lagrange::LagrangeTop;

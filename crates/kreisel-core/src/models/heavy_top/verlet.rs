@@ -10,7 +10,7 @@
 //! order 2. Euler angles are singular at theta = 0 and pi: the scheme reports an error
 //! when the axis comes within 1e-6 rad of the vertical (use "splitting" there).
 
-use super::fixed::FixedScheme;
+use crate::integrate::fixed::FixedScheme;
 use crate::error::{KreiselError, Result};
 use crate::models::heavy_top::{HeavyTop, RigidState, TopKind};
 use crate::rotation::{euler_from_quaternion, omega_body_from_euler, quaternion_from_euler};
@@ -138,7 +138,7 @@ impl FixedScheme for Verlet {
 /// The same Euler-angle Hamiltonian as a first-order system in y = (theta, p_theta, phi,
 /// psi), for the general-purpose integrators: the seed's reduced route, where only the
 /// nutation is integrated and phi, psi follow from the conserved momenta.
-impl super::OdeSystem<4> for Verlet {
+impl crate::integrate::OdeSystem<4> for Verlet {
     fn rhs(&self, _t: f64, y: &[f64; 4], dy: &mut [f64; 4]) {
         let (phid, psid) = self.rates(y[0]);
         dy[0] = y[1] / self.i1;

@@ -1,0 +1,524 @@
+//! One simulation vocabulary for every model: [`Settings`] with one [`Settings::check`],
+//! [`Solution`], [`Stats`], [`Status`], [`EventRecord`], and the [`Model`] trait that a top
+//! implements to get [`simulate`], [`summarise`] and the parallel [`batch`] without a driver
+//! of its own.
+//!
+//! A model's driver lives with its physics (`models::heavy_top::simulate`,
+//! `models::play_top::simulate`); this module holds what they share, and every rule on
+//! settings and every public name (methods, summaries with units) that Python, the command
+//! line and the sweeps read.
+
+pub mod batch;
+mod names;
+
+pub use names::{SummaryField, MODES, MOTION_KINDS, SUMMARY_FIELDS};
+
+use crate::error::{KreiselError, Result};
+use std::borrow::Cow;
+
+/// What a method is and can do.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct MethodInfo {
+    /// Public name.
+    pub name: &'static str,
+    /// Order of accuracy.
+    pub order: u32,
+    /// Adaptive step size (else `dt` is required).
+    pub adaptive: bool,
+    /// Symplectic (Lie-Poisson for the splittings).
+    pub symplectic: bool,
+    /// Supports event location.
+    pub events: bool,
+    /// One line on what it is.
+    pub summary: &'static str,
+}
+
+/// Every method `simulate` knows.
+pub const METHODS: [MethodInfo; 8] = [
+    MethodInfo { name: "dop853", order: 8, adaptive: true, symplectic: false, events: true, summary: "Dormand-Prince 8(5,3), adaptive, dense output of order 7" },
+    MethodInfo { name: "rk4", order: 4, adaptive: false, symplectic: false, events: false, summary: "classic fixed-step Runge-Kutta" },
+    MethodInfo { name: "splitting", order: 2, adaptive: false, symplectic: true, events: false, summary: "kick-drift-kick of exact free rotation and gravity kick" },
+    MethodInfo { name: "splitting4", order: 4, adaptive: false, symplectic: true, events: false, summary: "Yoshida triple jump of the splitting" },
+    MethodInfo { name: "splitting6", order: 6, adaptive: false, symplectic: true, events: false, summary: "Yoshida's 7-stage composition of the splitting" },
+    MethodInfo { name: "verlet", order: 2, adaptive: false, symplectic: true, events: false, summary: "Stoermer-Verlet on the Euler-angle Hamiltonian (symmetric tops; singular at the vertical)" },
+    MethodInfo { name: "midpoint", order: 2, adaptive: false, symplectic: true, events: false, summary: "implicit midpoint rule" },
+    MethodInfo { name: "gauss4", order: 4, adaptive: false, symplectic: true, events: false, summary: "2-stage Gauss-Legendre, implicit" },
+];
+
+/// Looks a method up by name.
+pub fn method(name: &str) -> Result<MethodInfo> {
+    METHODS
+        .iter()
+        .copied()
+        .find(|m| m.name == name)
+        .ok_or_else(|| KreiselError::InvalidParameter {
+            name: "method".into(),
+            value: format!("{name:?}"),
+            allowed: format!(
+                "known methods are {}",
+                METHODS
+                    .iter()
+                    .map(|m| m.name)
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+        })
+}
+
+/// The most steps a run may take (adaptive step attempts, or fixed steps `t_end / dt`).
+pub const MAX_STEPS: u64 = 100_000_000;
+
+/// What an event function looks at.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum EventKind {
+    /// Heavy tops: turning points of the nutation (the sign of theta_dot).
+    TurningPoints,
+    /// Heavy tops: theta crossing a value (rad): `cos(value) - cos(theta)`.
+    ThetaCrossing(f64),
+    /// Play tops: u = cos(theta) crossing a level upward (each event fires once).
+    Inversion(f64),
+    /// Play tops: the kinetic energy falling below 1e-12 of its start.
+    Rest,
+    /// A user function of (t, state): the next of the functions handed to [`simulate`].
+    User,
+}
+
+impl EventKind {
+    /// The kind's public name.
+    pub fn name(&self) -> &'static str {
+        match self {
+            EventKind::TurningPoints => "turning_points",
+            EventKind::ThetaCrossing(_) => "theta_crossing",
+            EventKind::Inversion(_) => "inversion",
+            EventKind::Rest => "rest",
+            EventKind::User => "user",
+        }
+    }
+}
+
+/// An event the user asks for: what it looks at, which crossings count, whether it ends the
+/// run, and the name it is reported under.
+#[derive(Debug, Clone, PartialEq)]
+pub struct EventDef {
+    /// Reported name.
+    pub name: String,
+    /// The event function.
+    pub kind: EventKind,
+    /// -1, 0 or +1: crossings from + to -, both, or from - to +.
+    pub direction: i8,
+    /// Stop at the first such event.
+    pub terminal: bool,
+}
+
+/// A user event function of (t, state).
+pub type UserFn<'a, S> = Box<dyn FnMut(f64, &S) -> f64 + 'a>;
+
+/// Settings of one simulation, for every model.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Settings {
+    /// Method name (see [`METHODS`]).
+    pub method: String,
+    /// End time (s), >= 0.
+    pub t_end: f64,
+    /// Relative tolerance (adaptive methods), in [1e-15, 1).
+    pub rtol: f64,
+    /// Absolute tolerance (adaptive methods), > 0.
+    pub atol: f64,
+    /// Step (fixed-step methods), > 0.
+    pub dt: Option<f64>,
+    /// What to save: output times (ascending, in [0, t_end]); None: every step.
+    pub t_eval: Option<Vec<f64>>,
+    /// Events, in the user's order ([`EventRecord::index`] is the position here).
+    pub events: Vec<EventDef>,
+    /// Lagrange tops: integrate (theta, p_theta) alone and rebuild phi and psi.
+    pub reduced: bool,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Settings {
+            method: "dop853".into(),
+            t_end: 0.0,
+            rtol: 1e-10,
+            atol: 1e-12,
+            dt: None,
+            t_eval: None,
+            events: Vec::new(),
+            reduced: false,
+        }
+    }
+}
+
+impl Settings {
+    /// The one check of the settings, whatever the model: names the setting, its value and
+    /// what is allowed. Returns the method's description. (A model adds its own rules in
+    /// [`Model::check`].)
+    pub fn check(&self) -> Result<MethodInfo> {
+        let info = method(&self.method)?;
+        let t_end = self.t_end;
+        if !(t_end.is_finite() && t_end >= 0.0) {
+            return Err(KreiselError::invalid(
+                "t_end",
+                t_end,
+                "it must be a finite number >= 0",
+            ));
+        }
+        if info.adaptive {
+            let (r, a) = (self.rtol, self.atol);
+            if !(r.is_finite() && (1e-15..1.0).contains(&r)) {
+                return Err(KreiselError::invalid(
+                    "rtol",
+                    r,
+                    "it must lie in [1e-15, 1)",
+                ));
+            }
+            if !(a.is_finite() && a > 0.0) {
+                return Err(KreiselError::invalid(
+                    "atol",
+                    a,
+                    "it must be a finite number > 0",
+                ));
+            }
+        } else {
+            match self.dt {
+                None => {
+                    return Err(KreiselError::InvalidParameter {
+                        name: "dt".into(),
+                        value: "None".into(),
+                        allowed: format!("method {:?} has a fixed step: give dt > 0", info.name),
+                    })
+                }
+                Some(dt) if !(dt.is_finite() && dt > 0.0) => {
+                    return Err(KreiselError::invalid(
+                        "dt",
+                        dt,
+                        "it must be a finite number > 0",
+                    ))
+                }
+                Some(dt) if t_end / dt > MAX_STEPS as f64 => {
+                    return Err(KreiselError::invalid(
+                        "dt",
+                        dt,
+                        format!(
+                            "t_end / dt = {:.3e} steps is more than the {MAX_STEPS} a run may \
+                             take: give a larger dt or a shorter t_end",
+                            t_end / dt
+                        ),
+                    ))
+                }
+                _ => {}
+            }
+        }
+        if let Some(te) = &self.t_eval {
+            for (i, w) in te.windows(2).enumerate() {
+                if w[1] < w[0] {
+                    return Err(KreiselError::invalid(
+                        &format!("t_eval[{}]", i + 1),
+                        w[1],
+                        "output times must be ascending",
+                    ));
+                }
+            }
+            if let Some(&bad) = te
+                .iter()
+                .find(|&&x| !(x.is_finite() && (0.0..=t_end).contains(&x)))
+            {
+                return Err(KreiselError::invalid(
+                    "t_eval",
+                    bad,
+                    format!("output times must lie in [0, t_end = {t_end}]"),
+                ));
+            }
+        }
+        if !self.events.is_empty() && !info.events {
+            return Err(KreiselError::InvalidParameter {
+                name: "events".into(),
+                value: format!("{} event(s)", self.events.len()),
+                allowed: format!(
+                    "method {:?} has no dense output to locate events; use \"dop853\"",
+                    info.name
+                ),
+            });
+        }
+        for (i, e) in self.events.iter().enumerate() {
+            let name = format!("events[{i}].direction");
+            if !matches!(e.direction, -1..=1) {
+                return Err(KreiselError::invalid(
+                    &name,
+                    e.direction as f64,
+                    "use -1, 0 or +1",
+                ));
+            }
+            match e.kind {
+                EventKind::ThetaCrossing(v) if !v.is_finite() => {
+                    return Err(KreiselError::invalid(
+                        &format!("events[{i}] ({}) value", e.name),
+                        v,
+                        "an angle must be a finite number (rad)",
+                    ))
+                }
+                EventKind::Inversion(v) if !v.is_finite() => {
+                    return Err(KreiselError::invalid(
+                        &format!("events[{i}] ({}) level", e.name),
+                        v,
+                        "a level of u = cos(theta) must be a finite number",
+                    ))
+                }
+                _ => {}
+            }
+        }
+        Ok(info)
+    }
+
+    /// The number of user event functions the settings refer to.
+    pub fn user_events(&self) -> usize {
+        self.events
+            .iter()
+            .filter(|e| e.kind == EventKind::User)
+            .count()
+    }
+
+    /// An error for an event kind that `model` has no event function for.
+    pub fn unsupported_event(&self, model: &str, allowed: &[EventKind]) -> Result<()> {
+        for (i, e) in self.events.iter().enumerate() {
+            let known = allowed
+                .iter()
+                .any(|a| std::mem::discriminant(a) == std::mem::discriminant(&e.kind));
+            if !known {
+                return Err(KreiselError::InvalidParameter {
+                    name: format!("events[{i}]"),
+                    value: format!("{:?} ({})", e.name, e.kind.name()),
+                    allowed: format!(
+                        "a {model} has the events {}",
+                        allowed
+                            .iter()
+                            .map(|a| a.name())
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    ),
+                });
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Counters of one simulation.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct Stats {
+    /// Accepted steps.
+    pub steps: u64,
+    /// Rejected steps.
+    pub rejected: u64,
+    /// Right-hand-side evaluations (0 for the splittings, which use none).
+    pub rhs_evals: u64,
+}
+
+impl std::ops::AddAssign<crate::integrate::Stats> for Stats {
+    fn add_assign(&mut self, s: crate::integrate::Stats) {
+        self.steps += s.steps;
+        self.rejected += s.rejected;
+        self.rhs_evals += s.rhs_evals;
+    }
+}
+
+/// How a run ended.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub enum Status {
+    /// It reached `t_end`.
+    #[default]
+    Completed,
+    /// A terminal event ended it.
+    Event,
+    /// It was interrupted (cancelled, or an error in a user event function).
+    Interrupted,
+}
+
+impl Status {
+    /// The status's public name.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Status::Completed => "completed",
+            Status::Event => "event",
+            Status::Interrupted => "interrupted",
+        }
+    }
+}
+
+/// An event that happened.
+#[derive(Debug, Clone, PartialEq)]
+pub struct EventRecord {
+    /// Position in [`Settings::events`]; None for the model's own events (a play top's
+    /// contact switches: lift-off, touchdown, slip to roll, roll to slip).
+    pub index: Option<usize>,
+    /// Reported name.
+    pub name: Cow<'static, str>,
+    /// Time (s).
+    pub t: f64,
+}
+
+/// What a run reports besides its rows.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct RunInfo {
+    /// Counters.
+    pub stats: Stats,
+    /// Events, in the order they happened.
+    pub events: Vec<EventRecord>,
+    /// How it ended.
+    pub status: Status,
+}
+
+/// A simulated motion: times, rows (a state and what the model records beside it), events,
+/// counters and status.
+#[derive(Debug, Clone)]
+pub struct Solution<R> {
+    /// Times (s); an event time appears twice where the state jumps there.
+    pub t: Vec<f64>,
+    /// Rows at those times.
+    pub rows: Vec<R>,
+    /// Events, counters and status.
+    pub info: RunInfo,
+}
+
+/// What receives the rows of a run, in order.
+pub type Sink<'a, R> = &'a mut dyn FnMut(f64, &R);
+
+/// The running summary of a run, fed one row at a time.
+pub trait Accumulate<R> {
+    /// What it gives at the end.
+    type Summary;
+    /// One more row.
+    fn push(&mut self, t: f64, row: &R);
+    /// The summary, once the run is over.
+    fn finish(self, info: &RunInfo) -> Self::Summary;
+}
+
+/// A model kreisel simulates: its state, what a run records, its own rules on the
+/// settings, its driver and its summary. Implementing it gives [`simulate`], [`summarise`]
+/// and [`batch::many`].
+pub trait Model: Sync {
+    /// An initial state.
+    type State: Send + Sync;
+    /// One output row.
+    type Row: Copy + Send;
+    /// What a batch keeps of a run.
+    type Summary: Send;
+    /// The running summary of a run.
+    type Acc<'a>: Accumulate<Self::Row, Summary = Self::Summary>
+    where
+        Self: 'a;
+
+    /// What the model is called in messages ("heavy top").
+    const NAME: &'static str;
+
+    /// The model's own rules on settings (methods and events it supports), after
+    /// [`Settings::check`] passed with `info`.
+    fn check(&self, settings: &Settings, info: &MethodInfo) -> Result<()>;
+
+    /// Runs from `s0`, handing every row to `sink`; `user` are the functions of the
+    /// settings' [`EventKind::User`] events in order. `keep_going(t)`, asked now and then,
+    /// may stop the run (status [`Status::Interrupted`]). Settings are checked.
+    fn run(
+        &self,
+        s0: &Self::State,
+        settings: &Settings,
+        user: &mut [UserFn<'_, Self::State>],
+        keep_going: &mut dyn FnMut(f64) -> bool,
+        sink: Sink<'_, Self::Row>,
+    ) -> Result<RunInfo>;
+
+    /// A running summary of a run from `s0`.
+    fn summary<'a>(&'a self, s0: &Self::State, settings: &Settings) -> Self::Acc<'a>;
+}
+
+/// Checks settings for a model: [`Settings::check`], then the model's rules.
+pub fn check<M: Model>(model: &M, settings: &Settings, user_fns: usize) -> Result<MethodInfo> {
+    let info = settings.check()?;
+    model.check(settings, &info)?;
+    let wanted = settings.user_events();
+    if wanted != user_fns {
+        return Err(KreiselError::InvalidParameter {
+            name: "events".into(),
+            value: format!("{wanted} user event(s)"),
+            allowed: format!("{user_fns} user event function(s) were given"),
+        });
+    }
+    Ok(info)
+}
+
+/// Simulates `model` from `s0`: every row kept.
+pub fn simulate<M: Model>(
+    model: &M,
+    s0: &M::State,
+    settings: &Settings,
+    user: &mut [UserFn<'_, M::State>],
+    keep_going: &mut dyn FnMut(f64) -> bool,
+) -> Result<Solution<M::Row>> {
+    check(model, settings, user.len())?;
+    let (mut t, mut rows) = (Vec::new(), Vec::new());
+    let info = model.run(s0, settings, user, keep_going, &mut |ti, r| {
+        t.push(ti);
+        rows.push(*r);
+    })?;
+    Ok(Solution { t, rows, info })
+}
+
+/// Simulates `model` from `s0` and summarises the run as it goes (no rows kept).
+pub fn summarise<M: Model>(model: &M, s0: &M::State, settings: &Settings) -> Result<M::Summary> {
+    check(model, settings, 0)?;
+    run_summary(model, s0, settings)
+}
+
+/// [`summarise`] with the settings already checked.
+pub(crate) fn run_summary<M: Model>(
+    model: &M,
+    s0: &M::State,
+    settings: &Settings,
+) -> Result<M::Summary> {
+    let mut acc = model.summary(s0, settings);
+    let info = model.run(s0, settings, &mut [], &mut |_| true, &mut |t, r| {
+        acc.push(t, r)
+    })?;
+    Ok(acc.finish(&info))
+}
+
+/// The Euler angles phi and psi of a run's rows made continuous: each the representative
+/// (mod 2 pi) nearest to the previous row's (the first row's as they are).
+#[derive(Default)]
+pub(crate) struct Unwrapped {
+    last: Option<(f64, f64)>,
+}
+
+impl Unwrapped {
+    /// The next row's (phi, psi).
+    #[inline]
+    pub(crate) fn next(&mut self, phi: f64, psi: f64) -> (f64, f64) {
+        let out = match self.last {
+            None => (phi, psi),
+            Some((lphi, lpsi)) => (unwrap(lphi, phi), unwrap(lpsi, psi)),
+        };
+        self.last = Some(out);
+        out
+    }
+}
+
+/// The representative of `angle` (mod 2 pi) nearest to `last`.
+#[inline]
+fn unwrap(last: f64, angle: f64) -> f64 {
+    let tau = std::f64::consts::TAU;
+    let turns = (last - angle) / tau;
+    // Mostly no turn: skip the rounding call (`angle + tau * 0.0` is `angle + 0.0`).
+    if turns.abs() < 0.5 {
+        return angle + 0.0;
+    }
+    angle + tau * turns.round()
+}
+
+/// The relative form of a drift `d` against `scale` (absolute where the scale is zero).
+pub(crate) fn relative(d: f64, scale: f64) -> f64 {
+    if scale > 0.0 {
+        d / scale
+    } else {
+        d
+    }
+}

@@ -20,7 +20,7 @@ Quaternion = tuple[float, float, float, float] | Sequence[float]
 Vector3 = tuple[float, float, float] | Sequence[float]
 EulerTuple = tuple[float, float, float, float, float, float]  # theta, phi, psi and rates
 Packed = tuple[Sequence[float], Sequence[float], Sequence[float], Sequence[float]]
-# (kind, name, user function of (t, q, omega) or None, level, direction, terminal)
+# (name, kind, user function of (t, q, omega) or None, level, direction, terminal)
 EventTuple = tuple[str, str, Callable[[float, F64, F64], float] | None, float, int, bool]
 
 class LagrangeTop:
@@ -43,20 +43,6 @@ class HeavyTop:
     def kind(self) -> str: ...
     def check_rigid(self, q: Quaternion, omega: Vector3) -> tuple[list[float], list[float]]: ...
     def invariants(self, q: Quaternion, omega: Vector3) -> dict[str, float]: ...
-    def columns(self, quaternion: F64, omega: F64) -> dict[str, F64]: ...
-    def simulate(
-        self,
-        q: Quaternion,
-        omega: Vector3,
-        t_end: float,
-        method: str,
-        rtol: float,
-        atol: float,
-        dt: float | None = None,
-        t_eval: Sequence[float] | None = None,
-        events: Sequence[EventTuple] = ...,
-        reduced: bool = False,
-    ) -> dict[str, Any]: ...
     def lyapunov(
         self,
         q: Quaternion,
@@ -95,20 +81,9 @@ class PlayTop:
         self, q: Quaternion, omega: Vector3, vx: float, vy: float, height: float | None = None
     ) -> Packed: ...
     def invariants(self, s: Packed) -> tuple[float, float]: ...
-    def simulate(
-        self,
-        s: Packed,
-        t_end: float,
-        rtol: float,
-        atol: float,
-        t_eval: Sequence[float] | None = None,
-        inversion_level: float | None = None,
-        stop_at_inversion: bool = False,
-        stop_at_rest: bool = False,
-    ) -> dict[str, Any]: ...
 
-class PlayRun:
-    """The states of a play-top run, kept natively; diagnostics on first read."""
+class Run:
+    """The rows of a run of any model, kept natively; diagnostics on first read."""
 
     def columns(self) -> dict[str, F64]: ...
 
@@ -124,25 +99,32 @@ class PlayStability:
     def frictionless_nutation(self, state: Packed) -> tuple[float, float, float, float]: ...
 
 # batches: the GIL is released while the runs go; columns NaN and a message where one fails
-def play_many(
-    tops: Sequence[PlayTop],
-    states: Sequence[Packed],
-    t_end: float,
-    rtol: float,
-    atol: float,
-    inversion_level: float,
-    threads: int | None = None,
-) -> dict[str, Any]: ...
-def heavy_many(
-    tops: Sequence[HeavyTop],
-    states: Sequence[tuple[Quaternion, Vector3]],
+# one stack for every model: a native HeavyTop or PlayTop and a flat state, (q, omega) for a
+# heavy top, (q, omega, com, com_velocity) for a play top
+def simulate(
+    model: HeavyTop | PlayTop,
+    state: Sequence[float],
     t_end: float,
     method: str,
     rtol: float,
     atol: float,
     dt: float | None = None,
+    t_eval: Sequence[float] | None = None,
+    events: Sequence[EventTuple] = ...,
+    reduced: bool = False,
+) -> dict[str, Any]: ...
+def many(
+    models: Sequence[HeavyTop | PlayTop],
+    states: Sequence[Sequence[float]],
+    t_end: float,
+    method: str,
+    rtol: float,
+    atol: float,
+    dt: float | None = None,
+    events: Sequence[EventTuple] = ...,
     threads: int | None = None,
 ) -> dict[str, Any]: ...
+def names() -> dict[str, Any]: ...
 def lyapunov_many(
     tops: Sequence[HeavyTop],
     states: Sequence[tuple[Quaternion, Vector3]],

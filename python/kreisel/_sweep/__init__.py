@@ -44,8 +44,8 @@ from pathlib import Path
 
 import numpy as np
 
-from . import _config
-from ._errors import ParameterError
+from .. import _config
+from .._errors import ParameterError
 
 SUMMARIES = {
     "play": ("final_u", "final_mode", "inversion_time", "jellett_drift", "energy_drift", "steps"),
@@ -561,7 +561,7 @@ def compute_chunk(spec: dict, values: dict, threads=None) -> dict:
 
     ``spec`` is :meth:`SweepSpec.as_dict`, ``values`` the swept values of each run.
     """
-    from ._batch import _lyapunov_many, _play_many_packed, simulate_many
+    from .._batch import _lyapunov_many, _play_many_packed, simulate_many
 
     kind = spec["kind"]
     n = len(next(iter(values.values())))
@@ -652,7 +652,7 @@ _PLAY_STATE = ("theta", "phi", "psi", "theta_dot", "phi_dot", "psi_dot")
 def _play_packed(model, state: dict):
     """The packed contact (or dropped) state of a play top from a [state] table: what
     ``model.state(**state)`` gives, with the same checks, without the objects around it."""
-    from . import _core
+    from .. import _core
 
     unknown = set(state) - {*_PLAY_STATE, "vx", "vy", "height"}
     if unknown or "theta" not in state:
@@ -716,7 +716,7 @@ def _open_existing(store):
 def _create(store, spec: SweepSpec, samples: dict):
     import zarr
 
-    from ._core import __version__
+    from .._core import __version__
 
     root = zarr.open_group(store, mode="w")
     root.attrs.update(
@@ -945,7 +945,7 @@ def sweep(
     import zarr
     from tqdm.auto import tqdm
 
-    from ._batch import _threads
+    from .._batch import _threads
 
     sp = load_spec(spec)
     threads = _threads(threads)

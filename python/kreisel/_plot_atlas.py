@@ -10,6 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from . import _atlas
+from ._plot_base import _pyplot
 
 # One colour per zone (light enough for labels and curves on top).
 ZONE_COLOURS = {
@@ -34,12 +35,6 @@ _CURVES = [
     ("u_m=-1", r"$u_m = -1$", dict(color="#7d3c98", lw=1.2, ls="-.")),
     ("J_R(1)=J_R(-1)", r"$J_R(1) = J_R(-1)$", dict(color="#117a65", lw=1.4, ls=":")),
 ]
-
-
-def _pyplot():
-    from .plot import _pyplot
-
-    return _pyplot()
 
 
 def _alpha_grid(a_max):

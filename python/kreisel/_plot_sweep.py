@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from ._errors import ParameterError
+from ._plot_base import _pyplot
 
 MODE_COLORS = {"slip": "#4477aa", "roll": "#228833", "flight": "#ccbb44", "error": "#ee6677"}
 LABELS = {
@@ -36,8 +37,6 @@ def sweep(ds, var=None, ax=None, *, x=None, y=None, **select):
     (``name=value``, the nearest grid value) or else at their first value, as the title
     says. Runs not yet computed are left blank.
     """
-    from .plot import _pyplot
-
     plt = _pyplot()
     var = _default_var(ds) if var is None else var
     if var not in ds.data_vars:

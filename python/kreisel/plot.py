@@ -7,18 +7,9 @@ from __future__ import annotations
 
 import numpy as np
 
-
-def _pyplot():
-    import matplotlib
-
-    if matplotlib.get_backend().lower() not in ("agg", "module://matplotlib_inline.backend_inline"):
-        try:
-            import matplotlib.pyplot as plt  # noqa: F401
-        except ImportError:  # pragma: no cover
-            matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    return plt
+from ._plot_atlas import J_R_plot, atlas, vertical_axis_diagram  # noqa: F401
+from ._plot_base import _pyplot
+from ._plot_sweep import sweep  # noqa: F401
 
 
 def figure_axis(theta, phi):
@@ -336,7 +327,3 @@ def contact_track(traj, ax=None, *, unit="mm"):
     ax.grid(alpha=0.3)
     ax.legend(loc="best", fontsize=8)
     return ax
-
-
-from ._plot_atlas import J_R_plot, atlas, vertical_axis_diagram  # noqa: E402, F401
-from ._plot_sweep import sweep  # noqa: E402, F401

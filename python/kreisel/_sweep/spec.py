@@ -1,0 +1,512 @@
+"""The sweep spec: its tables checked, the swept values, the chunks, and the names of the
+summaries (see :mod:`kreisel._sweep` for the tables)."""
+
+from __future__ import annotations
+
+import json
+import os
+from dataclasses import dataclass
+
+import numpy as np
+
+from .. import _config
+from .._errors import ParameterError
+
+SUMMARIES = {
+    "play": ("final_u", "final_mode", "inversion_time", "jellett_drift", "energy_drift", "steps"),
+    "heavy": ("final_theta", "theta_min", "theta_max", "energy_drift", "Mz_drift", "M3_drift",
+              "kovalevskaya_drift", "steps"),
+}  # fmt: skip
+DEFAULT_KEEP = dict(SUMMARIES)
+SUMMARIES["heavy"] = (*SUMMARIES["heavy"], "lyapunov")  # on request: it costs two more runs
+SUMMARIES["lagrange"] = SUMMARIES["heavy"]
+DEFAULT_KEEP["lagrange"] = DEFAULT_KEEP["heavy"]
+DESCRIPTIONS = {
+    "final_u": "u = cos(theta) at the end",
+    "final_mode": "contact mode at the end",
+    "inversion_time": "first upward crossing of the inversion level (s), NaN if none",
+    "jellett_drift": "largest relative change of Jellett's integral",
+    "energy_drift": "largest relative change of the energy (E + dissipated for play tops)",
+    "steps": "accepted steps",
+    "final_theta": "theta at the end (rad)",
+    "theta_min": "smallest theta over the steps (rad)",
+    "theta_max": "largest theta over the steps (rad)",
+    "Mz_drift": "largest change of Mz relative to |M0|",
+    "M3_drift": "largest change of M3 relative to |M0| (NaN unless symmetric)",
+    "kovalevskaya_drift": "largest relative change of Kovalevskaya's K (NaN unless such a top)",
+    "lyapunov": "largest Lyapunov exponent (1/s), Benettin's renormalisation over t_end",
+    "motion_kind": "kind of motion of the exact solution",
+    "nutation_period": "period of theta (s), inf on the separatrix",
+    "mean_precession_rate": "mean of phi_dot over a nutation period (rad/s)",
+}
+MODES = ("slip", "roll", "flight")
+MOTION_KINDS = ("sleeping", "hanging", "regular_precession", "waves", "cusps", "loops",
+                "through_vertical", "asymptotic")  # fmt: skip
+# summaries with a few named values, stored as small integer codes (CF flag convention)
+CATEGORIES = {"final_mode": MODES, "motion_kind": MOTION_KINDS}
+MODE_PENDING, MODE_ERROR = -1, -2
+# the exact Lagrange top: no integration, the analysis of each state
+EXACT_SUMMARIES = ("motion_kind", "theta_min", "theta_max", "nutation_period",
+                   "mean_precession_rate")  # fmt: skip
+SWEEP_TABLES = (*_config.TABLES, "grid", "random", "output")
+OUTPUT_FIELDS = ("keep", "chunk", "inversion_level", "lyapunov_tau")
+DEFAULT_CHUNK = 1024  # runs per store chunk: each chunk written costs ~10 ms of CPU (8 arrays)
+MAX_RUNS = 100_000_000
+
+
+@dataclass(frozen=True)
+class SweepSpec:
+    """A checked sweep: the fixed tables, the swept values and what to keep.
+
+    Build one with :meth:`from_tables` (a dict of tables) or :meth:`from_toml` (a file).
+    """
+
+    kind: str
+    top: dict
+    state: dict
+    simulation: dict
+    grid: dict
+    random: dict
+    n_samples: int
+    seed: int
+    keep: tuple
+    chunk: int
+    inversion_level: float
+    lyapunov_tau: float = 1.0
+
+    # ----------------------------------------------------------------------------------
+    # construction
+    # ----------------------------------------------------------------------------------
+
+    @classmethod
+    def from_toml(cls, path) -> SweepSpec:
+        return cls.from_tables(_config.read_toml(path), source=str(path))
+
+    @classmethod
+    def from_tables(cls, tables: dict, *, source: str = "") -> SweepSpec:
+        head = f"{source}: " if source else ""
+        if not isinstance(tables, dict):
+            raise ParameterError(f"{head}a sweep spec must be a table of tables")
+        for key in tables:
+            if key not in SWEEP_TABLES:
+                raise ParameterError(
+                    f"{head}[{key}] is not a known table of a sweep: allowed are "
+                    + ", ".join(f"[{t}]" for t in SWEEP_TABLES)
+                )
+        for key in SWEEP_TABLES:
+            if not isinstance(tables.get(key, {}), dict):
+                raise ParameterError(f"{head}[{key}] must be a table")
+        top = dict(tables.get("top", {}))
+        state = dict(tables.get("state", {}))
+        sim = dict(tables.get("simulation", {}))
+        chosen = top.pop("preset", None)
+        if chosen is not None:
+            base = _config.preset(chosen)
+            merged = _config.overlay(base, {"top": top, "state": state, "simulation": sim})
+            top, state, sim = merged["top"], merged["state"], merged["simulation"]
+        kind = top.pop("kind", None)
+        if kind not in _config.KINDS:
+            raise ParameterError(
+                f"{head}[top] kind = {kind!r} is not allowed: use one of "
+                f"{', '.join(_config.KINDS)} (or a preset)"
+            )
+        if sim.get("samples") is not None:
+            raise ParameterError(
+                f"{head}[simulation] samples = {sim['samples']!r} is not allowed in a sweep: "
+                "sweeps keep summaries, not trajectories"
+            )
+        exact = sim.get("exact", False)
+        if exact is not True:
+            sim.pop("exact", None)
+            if kind == "lagrange":
+                sim.setdefault("method", "dop853")
+        elif kind != "lagrange":
+            raise ParameterError(
+                f"{head}[simulation] exact = true is not allowed: only a lagrange top has an "
+                "exact solution"
+            )
+        swept_names = _sweepable(kind)
+        grid = _grid(tables.get("grid", {}), swept_names, f"{head}[grid] ")
+        random, n, seed = _random(tables.get("random", {}), swept_names, f"{head}[random] ")
+        both = set(grid) & set(random)
+        if both:
+            raise ParameterError(
+                f"{head}{sorted(both)[0]} is swept in both [grid] and [random]: choose one"
+            )
+        if not grid and not random:
+            raise ParameterError(
+                f"{head}nothing is swept: give [grid] values or [random] samples of at least "
+                f"one of {', '.join(swept_names)}"
+            )
+        swept = [*grid, *random]
+        for name in swept:
+            table, field = _where(kind, name)
+            fixed = top if table == "top" else state
+            if field in fixed and field != "com":
+                if chosen is None or field in tables.get(table, {}):
+                    raise ParameterError(
+                        f"{head}{name} is swept and also fixed in [{table}]: give it once"
+                    )
+                del fixed[field]  # a preset's value gives way to the sweep
+        # placeholders let the fixed tables be checked field by field now
+        probe_top, probe_state = _compose(
+            kind, top, state, {k: _first(grid, random, k) for k in swept}
+        )
+        settings = _config.from_tables(
+            {"top": {"kind": kind, **probe_top}, "state": probe_state, "simulation": sim},
+            prefix="table",
+            source=source,
+        ).settings
+        sim = {
+            "t_end": settings.t_end,
+            "method": settings.method,
+            "rtol": settings.rtol,
+            "atol": settings.atol,
+            "dt": settings.dt,
+            "exact": settings.exact,
+        }
+        out = dict(tables.get("output", {}))
+        _config._check_fields(f"{head}[output] ", out, OUTPUT_FIELDS, "of the output")
+        allowed = EXACT_SUMMARIES if sim["exact"] else SUMMARIES[kind]
+        what = "the exact solution" if sim["exact"] else f"a {kind} top's run"
+        keep = out.get("keep", list(EXACT_SUMMARIES if sim["exact"] else DEFAULT_KEEP[kind]))
+        if isinstance(keep, str) or not isinstance(keep, (list, tuple)) or not keep:
+            raise ParameterError(
+                f"{head}[output] keep = {keep!r} is not allowed: give a non-empty list of "
+                f"{', '.join(allowed)}"
+            )
+        for k in keep:
+            if k not in allowed:
+                raise ParameterError(
+                    f"{head}[output] keep contains {k!r}, which is not a summary of {what}: "
+                    f"allowed are {', '.join(allowed)}"
+                )
+        chunk = out.get("chunk", DEFAULT_CHUNK)
+        if isinstance(chunk, bool) or not isinstance(chunk, (int, np.integer)) or chunk < 1:
+            raise ParameterError(
+                f"{head}[output] chunk = {chunk!r} is not allowed: give a whole number of runs >= 1"
+            )
+        level = _config._real(
+            f"{head}[output] ", "inversion_level", out.get("inversion_level", 0.9)
+        )
+        if not -1 <= level <= 1:
+            raise ParameterError(
+                f"{head}[output] inversion_level = {level} is not allowed: it must lie in [-1, 1]"
+            )
+        lyapunov_tau = _config._real(f"{head}[output] ", "lyapunov_tau",
+                                     out.get("lyapunov_tau", min(1.0, sim["t_end"])))  # fmt: skip
+        if "lyapunov_tau" in out and "lyapunov" not in keep:
+            raise ParameterError(
+                f"{head}[output] lyapunov_tau is given but lyapunov is not kept: add it to keep"
+            )
+        if not 0 < lyapunov_tau <= sim["t_end"]:
+            raise ParameterError(
+                f"{head}[output] lyapunov_tau = {lyapunov_tau} is not allowed: it must lie in "
+                f"(0, t_end = {sim['t_end']}]"
+            )
+        spec = cls(
+            kind,
+            top,
+            state,
+            sim,
+            grid,
+            random,
+            n,
+            seed,
+            tuple(dict.fromkeys(keep)),
+            int(chunk),
+            level,
+            lyapunov_tau,
+        )
+        if spec.size > MAX_RUNS:
+            raise ParameterError(
+                f"{head}the sweep has {spec.size} runs, more than {MAX_RUNS}: split it"
+            )
+        spec._check_models(head)
+        return spec
+
+    def _check_models(self, head: str):
+        """Every value of every swept top parameter builds a top (the others at their first
+        values), so a bad value fails now, not in the middle of the sweep."""
+        first = {k: _first(self.grid, self.random_values(), k) for k in self.swept}
+        for name in self.swept:
+            if _where(self.kind, name)[0] != "top":
+                continue
+            values = self.grid.get(name)
+            if values is None:
+                lo, hi, _ = self.random[name]
+                values = np.array([lo, hi])
+            for v in values:
+                top, _ = _compose(self.kind, self.top, self.state, {**first, name: v})
+                try:
+                    _config._model(self.kind, top, "")
+                except ParameterError as e:
+                    table = "grid" if name in self.grid else "random"
+                    raise ParameterError(f"{head}[{table}] {name} = {v:g}: {e}") from None
+
+    # ----------------------------------------------------------------------------------
+    # geometry
+    # ----------------------------------------------------------------------------------
+
+    @property
+    def swept(self) -> tuple:
+        return (*self.grid, *self.random)
+
+    @property
+    def dims(self) -> tuple:
+        return (*self.grid, *(("sample",) if self.random else ()))
+
+    @property
+    def shape(self) -> tuple:
+        return (*(len(v) for v in self.grid.values()), *((self.n_samples,) if self.random else ()))
+
+    @property
+    def size(self) -> int:
+        return int(np.prod(self.shape, dtype=np.int64))
+
+    @property
+    def block(self) -> tuple:
+        """The shape of one chunk: whole trailing dimensions while they fit in ``chunk``
+        runs, then a part of the next one, then 1."""
+        out, room = [], self.chunk
+        for n in reversed(self.shape):
+            take = max(1, min(n, room))
+            out.append(take)
+            room = max(1, room // take) if take == n else 1
+        return tuple(reversed(out))
+
+    @property
+    def chunk_grid(self) -> tuple:
+        return tuple(-(-n // b) for n, b in zip(self.shape, self.block))
+
+    @property
+    def n_chunks(self) -> int:
+        return int(np.prod(self.chunk_grid, dtype=np.int64))
+
+    def chunk_slices(self, k: int) -> tuple:
+        idx = np.unravel_index(k, self.chunk_grid)
+        return tuple(
+            slice(i * b, min((i + 1) * b, n)) for i, b, n in zip(idx, self.block, self.shape)
+        )
+
+    def random_values(self) -> dict:
+        """The random samples (drawn in the order given, from one generator)."""
+        rng = np.random.default_rng(self.seed)
+        out = {}
+        for name, (lo, hi, scale) in self.random.items():
+            if scale == "log":
+                out[name] = np.exp(rng.uniform(np.log(lo), np.log(hi), self.n_samples))
+            else:
+                out[name] = rng.uniform(lo, hi, self.n_samples)
+        return out
+
+    def chunk_values(self, k: int, samples: dict | None = None) -> dict:
+        """The swept values of every run of chunk ``k`` (C order within the block)."""
+        sl = self.chunk_slices(k)
+        axes = [v[s] for v, s in zip(self.grid.values(), sl)]
+        if self.random:
+            axes.append(np.arange(self.n_samples)[sl[-1]])
+        mesh = np.meshgrid(*axes, indexing="ij")
+        out = {name: m.ravel() for name, m in zip(self.grid, mesh)}
+        if self.random:
+            samples = self.random_values() if samples is None else samples
+            pick = mesh[-1].ravel()
+            for name in self.random:
+                out[name] = samples[name][pick]
+        return out
+
+    # ----------------------------------------------------------------------------------
+    # identity
+    # ----------------------------------------------------------------------------------
+
+    def as_dict(self) -> dict:
+        """Plain tables (lists, floats, strings) that rebuild this spec."""
+        return {
+            "kind": self.kind,
+            "top": _plain(self.top),
+            "state": _plain(self.state),
+            "simulation": _plain(self.simulation),
+            "grid": {k: [float(x) for x in v] for k, v in self.grid.items()},
+            "random": {k: [lo, hi, s] for k, (lo, hi, s) in self.random.items()},
+            "n_samples": self.n_samples,
+            "seed": self.seed,
+            "keep": list(self.keep),
+            "chunk": self.chunk,
+            "inversion_level": self.inversion_level,
+            "lyapunov_tau": self.lyapunov_tau,
+        }
+
+    def canonical(self) -> str:
+        return json.dumps(self.as_dict(), sort_keys=True)
+
+
+def _plain(d: dict) -> dict:
+    out = {}
+    for k, v in d.items():
+        if isinstance(v, (np.ndarray, list, tuple)):
+            out[k] = [float(x) for x in v]
+        elif isinstance(v, (bool, str)) or v is None:
+            out[k] = v
+        else:
+            out[k] = float(v)
+    return out
+
+
+def _sweepable(kind: str) -> tuple:
+    top = [f for f in _config.TOP_FIELDS[kind] if f not in ("friction", "com")]
+    if kind == "heavy":
+        top += ["com_x", "com_y", "com_z"]
+    return (*top, *_config._EULER, *(("vx", "vy", "height") if kind == "play" else ()))
+
+
+def _where(kind: str, name: str) -> tuple:
+    """(table, field) of a swept name."""
+    if name.startswith("com_"):
+        return "top", "com"
+    return ("top", name) if name in _config.TOP_FIELDS[kind] else ("state", name)
+
+
+def _compose(kind: str, top: dict, state: dict, values: dict) -> tuple:
+    """The [top] and [state] tables of one run: the fixed ones with its swept values."""
+    t, s = dict(top), dict(state)
+    for name, v in values.items():
+        table, field = _where(kind, name)
+        if field == "com":
+            com = list(t.get("com", (0.0, 0.0, 0.0)))
+            com["xyz".index(name[-1])] = float(v)
+            t["com"] = com
+        elif table == "top":
+            t[field] = float(v)
+        else:
+            s[field] = float(v)
+    return t, s
+
+
+def _first(grid: dict, random: dict, name: str) -> float:
+    """A value of a swept parameter to stand in for it: its first grid value, else the
+    first sample (or the low end of the range)."""
+    return float((grid[name] if name in grid else random[name])[0])
+
+
+def _number(where: str, name: str, value) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+        raise ParameterError(f"{where}{name} = {value!r} is not allowed: it must be a number")
+    v = float(value)
+    if not np.isfinite(v):
+        raise ParameterError(f"{where}{name} = {v} is not allowed: it must be finite")
+    return v
+
+
+def _check_name(where: str, name: str, allowed: tuple):
+    if name not in allowed:
+        raise ParameterError(
+            f"{where}{name} is not a parameter that can be swept: allowed are {', '.join(allowed)}"
+        )
+
+
+def _grid(table: dict, allowed: tuple, where: str) -> dict:
+    out = {}
+    for name, spec in table.items():
+        _check_name(where, name, allowed)
+        if isinstance(spec, dict):
+            extra = set(spec) - {"start", "stop", "num", "scale"}
+            missing = {"start", "stop", "num"} - set(spec)
+            if extra or missing:
+                raise ParameterError(
+                    f"{where}{name} = {spec!r} is not allowed: give {{start, stop, num}} and "
+                    "optionally scale = 'linear' or 'log'"
+                )
+            a = _number(where, f"{name}.start", spec["start"])
+            b = _number(where, f"{name}.stop", spec["stop"])
+            num = spec["num"]
+            if isinstance(num, bool) or not isinstance(num, (int, np.integer)) or num < 1:
+                raise ParameterError(
+                    f"{where}{name}.num = {num!r} is not allowed: it must be a whole number >= 1"
+                )
+            scale = spec.get("scale", "linear")
+            if scale == "log":
+                if not (a > 0 and b > 0):
+                    raise ParameterError(
+                        f"{where}{name} with scale = 'log' is not allowed from {a} to {b}: "
+                        "both ends must be > 0"
+                    )
+                values = np.geomspace(a, b, int(num))
+            elif scale == "linear":
+                values = np.linspace(a, b, int(num))
+            else:
+                raise ParameterError(
+                    f"{where}{name}.scale = {scale!r} is not allowed: use 'linear' or 'log'"
+                )
+        elif isinstance(spec, (list, tuple)):
+            values = np.array([_number(where, name, v) for v in spec], dtype=float)
+        else:
+            raise ParameterError(
+                f"{where}{name} = {spec!r} is not allowed: give a list of values or "
+                "{start, stop, num}; a single value belongs in [top] or [state]"
+            )
+        if len(values) == 0:
+            raise ParameterError(f"{where}{name} is an empty grid: give at least one value")
+        if len(np.unique(values)) != len(values):
+            raise ParameterError(f"{where}{name} repeats a value: grid values must be distinct")
+        out[name] = values
+    return out
+
+
+def _random(table: dict, allowed: tuple, where: str) -> tuple:
+    table = dict(table)
+    n = table.pop("n", None)
+    seed = table.pop("seed", 0)
+    if not table:
+        if n is not None:
+            raise ParameterError(f"{where}n = {n!r} is given but no parameter is sampled")
+        return {}, 0, 0
+    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
+        raise ParameterError(
+            f"{where}n = {n!r} is not allowed: give the number of samples, a whole number >= 1"
+        )
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
+        raise ParameterError(
+            f"{where}seed = {seed!r} is not allowed: it must be a whole number >= 0"
+        )
+    out = {}
+    for name, spec in table.items():
+        _check_name(where, name, allowed)
+        if (
+            not isinstance(spec, dict)
+            or set(spec) - {"low", "high", "scale"}
+            or not {
+                "low",
+                "high",
+            }
+            <= set(spec)
+        ):
+            raise ParameterError(
+                f"{where}{name} = {spec!r} is not allowed: give {{low, high}} and optionally "
+                "scale = 'linear' or 'log'"
+            )
+        lo = _number(where, f"{name}.low", spec["low"])
+        hi = _number(where, f"{name}.high", spec["high"])
+        scale = spec.get("scale", "linear")
+        if scale not in ("linear", "log"):
+            raise ParameterError(
+                f"{where}{name}.scale = {scale!r} is not allowed: use 'linear' or 'log'"
+            )
+        if not lo < hi:
+            raise ParameterError(f"{where}{name} from {lo} to {hi} is not allowed: need low < high")
+        if scale == "log" and lo <= 0:
+            raise ParameterError(f"{where}{name}.low = {lo} is not allowed with scale = 'log'")
+        out[name] = (lo, hi, scale)
+    return out, int(n), int(seed)
+
+
+def load_spec(spec) -> SweepSpec:
+    """A :class:`SweepSpec` from a spec, a dict of tables or the path of a TOML file."""
+    if isinstance(spec, SweepSpec):
+        return spec
+    if isinstance(spec, dict):
+        return SweepSpec.from_tables(spec)
+    if isinstance(spec, (str, os.PathLike)):
+        return SweepSpec.from_toml(spec)
+    raise ParameterError(
+        f"spec = {spec!r} is not allowed: give a SweepSpec, a dict of tables or a TOML path"
+    )

@@ -183,13 +183,15 @@ def from_tables(tables: dict, *, prefix: str = "", source: str = "") -> Problem:
 
 
 def _model(kind: str, top: dict, where: str):
-    import kreisel
+    from ._heavy import HeavyTop
+    from ._lagrange import LagrangeTop
+    from ._play import Coulomb, Frictionless, PlayTop, Viscous
 
     try:
         if kind == "lagrange":
-            return kreisel.LagrangeTop(**top)
+            return LagrangeTop(**top)
         if kind == "heavy":
-            return kreisel.HeavyTop(**top)
+            return HeavyTop(**top)
         p = dict(top)
         friction = p.pop("friction", "coulomb")
         mu = p.pop("mu", None)
@@ -200,12 +202,12 @@ def _model(kind: str, top: dict, where: str):
         if friction == "none":
             if mu is not None and mu != 0:
                 raise ParameterError(f"mu = {mu!r} is not allowed with friction = 'none'")
-            law = kreisel.Frictionless()
+            law = Frictionless()
         elif friction == "viscous":
-            law = kreisel.Viscous(mu=1.0 if mu is None else mu)
+            law = Viscous(mu=1.0 if mu is None else mu)
         else:
-            law = kreisel.Coulomb(mu=0.3 if mu is None else mu)
-        return kreisel.PlayTop(friction=law, **p)
+            law = Coulomb(mu=0.3 if mu is None else mu)
+        return PlayTop(friction=law, **p)
     except ParameterError as e:
         raise ParameterError(f"{where}{e}") from None
 

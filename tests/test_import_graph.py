@@ -13,8 +13,6 @@ from __future__ import annotations
 import ast
 from pathlib import Path
 
-import pytest
-
 PACKAGE = Path(__file__).resolve().parent.parent / "python" / "kreisel"
 
 # Edges that close cycles in files other people are changing now; each one goes when its

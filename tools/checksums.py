@@ -40,11 +40,9 @@ def trajectory(traj) -> dict:
 
 
 def summary(s) -> dict:
-    return {
-        k: digest(v)
-        for k, v in sorted(vars(s).items())
-        if v is not None and k != "errors"
-    } | {"errors": [e for e in s.errors]}
+    return {k: digest(v) for k, v in sorted(vars(s).items()) if v is not None and k != "errors"} | {
+        "errors": [e for e in s.errors]
+    }
 
 
 def cases() -> dict:

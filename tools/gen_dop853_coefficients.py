@@ -8,6 +8,7 @@ Run with the project's virtualenv interpreter (needs numpy + scipy):
 Every value is printed with ``repr(float(x))`` (shortest round-trip decimal), so the
 Rust `f64` constants are bit-identical to scipy's arrays.
 """
+
 import sys
 
 from scipy.integrate._ivp import dop853_coefficients as c

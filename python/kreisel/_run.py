@@ -10,6 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from ._config import Problem
+from ._simulate import names
 
 FORMATS = ("netcdf", "csv")
 ANIMATIONS = ("gif", "mp4", "html")
@@ -109,9 +110,7 @@ def summary(problem: Problem, traj) -> dict:
         inv = [e.t for e in evs if e.name == "inversion"]
         res["inversion_time"] = inv[0] if inv else None
         res["dissipated"] = traj.dissipated[-1]
-        res["modes"] = {
-            m: int(np.count_nonzero(traj.mode == m)) for m in ("slip", "roll", "flight")
-        }
+        res["modes"] = {m: int(np.count_nonzero(traj.mode == m)) for m in names()["modes"]}
     res["invariant_drift"] = {
         k: float(relative_drift(y, scale).max()) for k, _l, y, scale in conserved(traj)
     }

@@ -23,9 +23,20 @@ impl KreiselError {
     pub fn invalid(name: &str, value: f64, allowed: impl Into<String>) -> Self {
         KreiselError::InvalidParameter {
             name: name.to_string(),
-            value: format!("{value}"),
+            value: number(value),
             allowed: allowed.into(),
         }
+    }
+}
+
+/// A number as a message shows it: plain where that is short, else in exponent form (the
+/// plain form of 1e-300 has 300 digits).
+pub fn number(value: f64) -> String {
+    let a = value.abs();
+    if a != 0.0 && a.is_finite() && !(1e-4..1e16).contains(&a) {
+        format!("{value:e}")
+    } else {
+        format!("{value}")
     }
 }
 

@@ -36,7 +36,11 @@ fn settings(method: &str, t_end: f64, dt: f64) -> Settings {
     }
 }
 
-fn simulate_fixed(top: &HeavyTop, s0: &RigidState, st: &Settings) -> kreisel_core::Result<Solution<RigidState>> {
+fn simulate_fixed(
+    top: &HeavyTop,
+    s0: &RigidState,
+    st: &Settings,
+) -> kreisel_core::Result<Solution<RigidState>> {
     simulate(top, s0, st, &mut [], &mut |_| true)
 }
 

@@ -2,8 +2,8 @@
 
 use crate::errors::IntoPyResult;
 use crate::heavy::{lyapunov_settings, PyHeavyTop};
-use kreisel_core::simulate::batch;
 use kreisel_core::models::heavy_top::{HeavyTop, RigidState};
+use kreisel_core::simulate::batch;
 use numpy::IntoPyArray;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;

@@ -5,16 +5,16 @@
 use crate::errors::IntoPyResult;
 use crate::heavy::PyHeavyTop;
 use crate::play::PyPlayTop;
+use kreisel_core::models::heavy_top::HeavyTop;
 use kreisel_core::models::heavy_top::RigidState;
 use kreisel_core::models::play_top::simulate::PlayRow;
 use kreisel_core::models::play_top::{PlayTop, DIM};
-use kreisel_core::models::heavy_top::HeavyTop;
+use kreisel_core::simulate as core;
 use kreisel_core::simulate::{
-    batch, EventDef, EventKind, Model, RunInfo, Settings, Solution, UserFn, MODES,
-    MOTION_KINDS, SUMMARY_FIELDS,
+    batch, EventDef, EventKind, Model, RunInfo, Settings, Solution, UserFn, MODES, MOTION_KINDS,
+    SUMMARY_FIELDS,
 };
 use numpy::{IntoPyArray, PyArrayMethods, PyReadonlyArray1};
-use kreisel_core::simulate as core;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use std::cell::RefCell;
@@ -317,7 +317,12 @@ pub fn simulate<'py>(
             d.set_item("derived", top.column_names())?;
             info_into(py, &d, &out.info)?;
             d.set_item("t", out.t.into_pyarray(py))?;
-            d.set_item("run", PyRun { rows: Rows::Heavy(top, out.rows) })?;
+            d.set_item(
+                "run",
+                PyRun {
+                    rows: Rows::Heavy(top, out.rows),
+                },
+            )?;
         }
         Native::Play(top) => {
             let y0 = play_state(&state)?;
@@ -330,7 +335,11 @@ pub fn simulate<'py>(
                 v
             };
             let n = out.rows.len();
-            let q: Vec<[f64; 4]> = out.rows.iter().map(|r| [r.y[0], r.y[1], r.y[2], r.y[3]]).collect();
+            let q: Vec<[f64; 4]> = out
+                .rows
+                .iter()
+                .map(|r| [r.y[0], r.y[1], r.y[2], r.y[3]])
+                .collect();
             d.set_item("quaternion", flat(py, &q)?)?;
             d.set_item("omega", part(4).into_pyarray(py).reshape([n, 3])?)?;
             d.set_item("com", part(7).into_pyarray(py).reshape([n, 3])?)?;
@@ -343,7 +352,12 @@ pub fn simulate<'py>(
             d.set_item("derived", PlayTop::COLUMN_NAMES.to_vec())?;
             info_into(py, &d, &out.info)?;
             d.set_item("t", out.t.into_pyarray(py))?;
-            d.set_item("run", PyRun { rows: Rows::Play(top, out.rows) })?;
+            d.set_item(
+                "run",
+                PyRun {
+                    rows: Rows::Play(top, out.rows),
+                },
+            )?;
         }
     }
     Ok(d)
@@ -358,15 +372,26 @@ fn summary_columns<'py, S>(
     get: impl Fn(&S, &str) -> Option<f64>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
-    for f in SUMMARY_FIELDS.iter().filter(|f| f.model == model && f.default) {
+    for f in SUMMARY_FIELDS
+        .iter()
+        .filter(|f| f.model == model && f.default)
+    {
         let col: Vec<f64> = res
             .iter()
-            .map(|r| r.as_ref().ok().and_then(|s| get(s, f.name)).unwrap_or(f64::NAN))
+            .map(|r| {
+                r.as_ref()
+                    .ok()
+                    .and_then(|s| get(s, f.name))
+                    .unwrap_or(f64::NAN)
+            })
             .collect();
         if f.category.is_empty() {
             d.set_item(f.name, col.into_pyarray(py))?;
         } else {
-            let codes: Vec<i8> = col.iter().map(|&c| if c.is_nan() { -2 } else { c as i8 }).collect();
+            let codes: Vec<i8> = col
+                .iter()
+                .map(|&c| if c.is_nan() { -2 } else { c as i8 })
+                .collect();
             d.set_item(f.name, codes.into_pyarray(py))?;
         }
     }
@@ -456,7 +481,12 @@ pub fn names(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
     d.set_item("summaries", fields)?;
     d.set_item(
         "statuses",
-        [core::Status::Completed, core::Status::Event, core::Status::Interrupted].map(|s| s.name()),
+        [
+            core::Status::Completed,
+            core::Status::Event,
+            core::Status::Interrupted,
+        ]
+        .map(|s| s.name()),
     )?;
     d.set_item("max_steps", core::MAX_STEPS)?;
     Ok(d)

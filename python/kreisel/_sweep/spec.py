@@ -9,45 +9,35 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .. import _config
+from .. import _config, _core
 from .._errors import ParameterError
 
-SUMMARIES = {
-    "play": ("final_u", "final_mode", "inversion_time", "jellett_drift", "energy_drift", "steps"),
-    "heavy": ("final_theta", "theta_min", "theta_max", "energy_drift", "Mz_drift", "M3_drift",
-              "kovalevskaya_drift", "steps"),
-}  # fmt: skip
-DEFAULT_KEEP = dict(SUMMARIES)
-SUMMARIES["heavy"] = (*SUMMARIES["heavy"], "lyapunov")  # on request: it costs two more runs
+# Every name below is the core's (kreisel._core.names(), declared once in
+# crates/kreisel-core/src/simulate/names.rs): summaries with their descriptions and units,
+# contact modes, kinds of motion.
+_NAMES = _core.names()
+_FIELDS = _NAMES["summaries"]
+
+
+def _of(model: str, default_only: bool = False) -> tuple:
+    return tuple(
+        f["name"] for f in _FIELDS if f["model"] == model and (f["default"] or not default_only)
+    )
+
+
+SUMMARIES = {"play": _of("play"), "heavy": _of("heavy")}
 SUMMARIES["lagrange"] = SUMMARIES["heavy"]
-DEFAULT_KEEP["lagrange"] = DEFAULT_KEEP["heavy"]
-DESCRIPTIONS = {
-    "final_u": "u = cos(theta) at the end",
-    "final_mode": "contact mode at the end",
-    "inversion_time": "first upward crossing of the inversion level (s), NaN if none",
-    "jellett_drift": "largest relative change of Jellett's integral",
-    "energy_drift": "largest relative change of the energy (E + dissipated for play tops)",
-    "steps": "accepted steps",
-    "final_theta": "theta at the end (rad)",
-    "theta_min": "smallest theta over the steps (rad)",
-    "theta_max": "largest theta over the steps (rad)",
-    "Mz_drift": "largest change of Mz relative to |M0|",
-    "M3_drift": "largest change of M3 relative to |M0| (NaN unless symmetric)",
-    "kovalevskaya_drift": "largest relative change of Kovalevskaya's K (NaN unless such a top)",
-    "lyapunov": "largest Lyapunov exponent (1/s), Benettin's renormalisation over t_end",
-    "motion_kind": "kind of motion of the exact solution",
-    "nutation_period": "period of theta (s), inf on the separatrix",
-    "mean_precession_rate": "mean of phi_dot over a nutation period (rad/s)",
-}
-MODES = ("slip", "roll", "flight")
-MOTION_KINDS = ("sleeping", "hanging", "regular_precession", "waves", "cusps", "loops",
-                "through_vertical", "asymptotic")  # fmt: skip
+# kept unless the spec says otherwise (the Lyapunov exponent costs two more runs: on request)
+DEFAULT_KEEP = {k: _of("heavy" if k == "lagrange" else k, True) for k in SUMMARIES}
+DESCRIPTIONS = {f["name"]: f["description"] for f in _FIELDS}
+UNITS = {f["name"]: f["unit"] for f in _FIELDS}
+MODES = tuple(_NAMES["modes"])
+MOTION_KINDS = tuple(_NAMES["motion_kinds"])
 # summaries with a few named values, stored as small integer codes (CF flag convention)
-CATEGORIES = {"final_mode": MODES, "motion_kind": MOTION_KINDS}
+CATEGORIES = {f["name"]: tuple(_NAMES[f["category"]]) for f in _FIELDS if f["category"]}
 MODE_PENDING, MODE_ERROR = -1, -2
 # the exact Lagrange top: no integration, the analysis of each state
-EXACT_SUMMARIES = ("motion_kind", "theta_min", "theta_max", "nutation_period",
-                   "mean_precession_rate")  # fmt: skip
+EXACT_SUMMARIES = _of("exact")
 SWEEP_TABLES = (*_config.TABLES, "grid", "random", "output")
 OUTPUT_FIELDS = ("keep", "chunk", "inversion_level", "lyapunov_tau")
 DEFAULT_CHUNK = 1024  # runs per store chunk: each chunk written costs ~10 ms of CPU (8 arrays)

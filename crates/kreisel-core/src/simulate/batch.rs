@@ -137,7 +137,12 @@ mod tests {
             st.t_end = 0.5;
             let kept = from_rows(&top, &s0, &st);
             let streamed = simulate::summarise(&top, &s0, &st).unwrap();
-            assert_eq!(format!("{kept:?}"), format!("{streamed:?}"), "{}", info.name);
+            assert_eq!(
+                format!("{kept:?}"),
+                format!("{streamed:?}"),
+                "{}",
+                info.name
+            );
         }
     }
 

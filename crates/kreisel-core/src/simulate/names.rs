@@ -92,7 +92,12 @@ pub const SUMMARY_FIELDS: [SummaryField; 20] = [
         "rad",
         "smallest theta over the steps (rad)",
     ),
-    field("heavy", "theta_max", "rad", "largest theta over the steps (rad)"),
+    field(
+        "heavy",
+        "theta_max",
+        "rad",
+        "largest theta over the steps (rad)",
+    ),
     field(
         "heavy",
         "energy_drift",

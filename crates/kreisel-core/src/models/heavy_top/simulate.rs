@@ -13,8 +13,8 @@ use crate::integrate::rk4::Rk4Scheme;
 use crate::integrate::{Dop853, EventSpec, IntegrateError, Locator, OdeSystem, Stream, WithEvents};
 use crate::rotation::{euler_from_quaternion, Quat};
 use crate::simulate::{
-    self, relative, Accumulate, EventKind, EventRecord, MethodInfo, Model, RunInfo, Settings,
-    Sink, Stats, Status, Unwrapped, UserFn, MAX_STEPS,
+    self, relative, Accumulate, EventKind, EventRecord, MethodInfo, Model, RunInfo, Settings, Sink,
+    Stats, Status, Unwrapped, UserFn, MAX_STEPS,
 };
 
 /// The events a heavy top has.
@@ -69,14 +69,41 @@ impl Model for HeavyTop {
                 let (sch, y0) = Verlet::new(top, s0)?;
                 let y0 = Verlet::pack(&y0);
                 let decode = |y: &[f64; 4]| sch.decode_packed(y);
-                return run_ode(&integrator, &sch, y0, decode, settings, user, keep_going, sink);
+                return run_ode(
+                    &integrator,
+                    &sch,
+                    y0,
+                    decode,
+                    settings,
+                    user,
+                    keep_going,
+                    sink,
+                );
             }
             return if top.axial() {
                 let sys = QOmega::<true>(top);
-                run_ode(&integrator, &sys, pack(s0), unpack, settings, user, keep_going, sink)
+                run_ode(
+                    &integrator,
+                    &sys,
+                    pack(s0),
+                    unpack,
+                    settings,
+                    user,
+                    keep_going,
+                    sink,
+                )
             } else {
                 let sys = QOmega::<false>(top);
-                run_ode(&integrator, &sys, pack(s0), unpack, settings, user, keep_going, sink)
+                run_ode(
+                    &integrator,
+                    &sys,
+                    pack(s0),
+                    unpack,
+                    settings,
+                    user,
+                    keep_going,
+                    sink,
+                )
             };
         }
         match info.name {
@@ -161,9 +188,9 @@ fn run_fixed<S: FixedScheme>(
     keep_going: &mut dyn FnMut(f64) -> bool,
     sink: Sink<'_, RigidState>,
 ) -> Result<(u64, bool)> {
-    let dt = settings.dt.ok_or_else(|| {
-        KreiselError::invalid("dt", f64::NAN, "a fixed-step method needs dt > 0")
-    })?;
+    let dt = settings
+        .dt
+        .ok_or_else(|| KreiselError::invalid("dt", f64::NAN, "a fixed-step method needs dt > 0"))?;
     fixed::run(
         scheme,
         y0,
@@ -205,9 +232,12 @@ fn run_ode<const N: usize, S: OdeSystem<N>>(
     sink: Sink<'_, RigidState>,
 ) -> Result<RunInfo> {
     let decode = &decode;
-    let mut stream = Stream::new(settings.t_eval.as_deref(), false, Some(keep_going), |t, y| {
-        sink(t, &decode(y))
-    });
+    let mut stream = Stream::new(
+        settings.t_eval.as_deref(),
+        false,
+        Some(keep_going),
+        |t, y| sink(t, &decode(y)),
+    );
     let mut users = user.iter_mut();
     let mut fns: Vec<RawEventFn<'_, N>> = Vec::with_capacity(settings.events.len());
     for e in &settings.events {

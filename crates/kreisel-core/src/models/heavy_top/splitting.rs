@@ -14,8 +14,8 @@
 //! Orders: Strang kick-drift-kick is 2; `order = 4` is Yoshida's triple jump (3 stages);
 //! `order = 6` is Yoshida's solution A (7 stages), H. Yoshida, Phys. Lett. A 150 (1990) 262.
 
-use crate::integrate::fixed::FixedScheme;
 use crate::error::{KreiselError, Result};
+use crate::integrate::fixed::FixedScheme;
 use crate::models::heavy_top::{HeavyTop, RigidState};
 use crate::rotation::{dot, Quat};
 

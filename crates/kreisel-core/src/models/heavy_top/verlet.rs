@@ -10,8 +10,8 @@
 //! order 2. Euler angles are singular at theta = 0 and pi: the scheme reports an error
 //! when the axis comes within 1e-6 rad of the vertical (use "splitting" there).
 
-use crate::integrate::fixed::FixedScheme;
 use crate::error::{KreiselError, Result};
+use crate::integrate::fixed::FixedScheme;
 use crate::models::heavy_top::{HeavyTop, RigidState, TopKind};
 use crate::rotation::{euler_from_quaternion, omega_body_from_euler, quaternion_from_euler};
 

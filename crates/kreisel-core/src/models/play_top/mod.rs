@@ -628,7 +628,6 @@ impl PlayTop {
         let l = self.momentum([y[4], y[5], y[6]]);
         self.s * l[2] + self.rho * dot(l, q.up_in_body())
     }
-
 }
 
 impl PlayTop {

@@ -6,7 +6,9 @@
 use super::contact::{Phase, Switch};
 use super::{law, Friction, Mode, PlayTop, RhsConsts, DIM};
 use crate::error::{KreiselError, Result};
-use crate::integrate::{Dop853, EventSpec, IntegrateError, Locator, Observer, OdeSystem, Stream, WithEvents};
+use crate::integrate::{
+    Dop853, EventSpec, IntegrateError, Locator, Observer, OdeSystem, Stream, WithEvents,
+};
 use crate::simulate::{
     relative, Accumulate, EventKind, EventRecord, MethodInfo, Model, RunInfo, Settings, Sink,
     Status, UserFn, MAX_STEPS,
@@ -119,7 +121,9 @@ impl Model for PlayTop {
             for (i, e) in settings.events.iter().enumerate() {
                 match e.kind {
                     EventKind::Inversion(level) if !fired[i] => {
-                        fns.push(Box::new(move |_t: f64, y: &[f64; DIM]| top.kin(y).u - level));
+                        fns.push(Box::new(move |_t: f64, y: &[f64; DIM]| {
+                            top.kin(y).u - level
+                        }));
                     }
                     EventKind::Rest => {
                         fns.push(Box::new(move |_t: f64, y: &[f64; DIM]| {
@@ -161,15 +165,14 @@ impl Model for PlayTop {
             };
             let mut stream = Stream::new(seg_times, !first, Some(&mut *keep_going), row);
             let mut obs = WithEvents::new(locator, &mut stream);
-            let (t1, y1, st) =
-                integrate_phase(&integrator, top, &ph, &last, t, y, t_end, &mut obs).map_err(
-                    |e| KreiselError::Numerical(format!("play top, {} mode: {e}", ph.mode.name())),
-                )?;
+            let (t1, y1, st) = integrate_phase(&integrator, top, &ph, &last, t, y, t_end, &mut obs)
+                .map_err(|e| {
+                    KreiselError::Numerical(format!("play top, {} mode: {e}", ph.mode.name()))
+                })?;
             let hits: Vec<(usize, f64)> =
                 obs.locator.events.iter().map(|e| (e.index, e.t)).collect();
             drop(obs);
             next_sample = offset + stream.taken;
-            drop(stream);
             drop(fns);
             info.stats += st;
             first = false;
@@ -467,7 +470,6 @@ fn columns_with<const RES: bool>(top: &PlayTop, all: &[PlayRow]) -> PlayColumns 
     }
     c
 }
-
 
 /// What a batch run keeps of each simulation.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -1,0 +1,123 @@
+"""One simulation stack for every model: the rules and names of the core, the status of a
+run, event indices, and the defects of the fuzz campaign (issue 19, items 3, 5 and 6) that
+the stack's single check removes."""
+
+from __future__ import annotations
+
+import dataclasses
+import time
+
+import numpy as np
+import pytest
+
+import kreisel
+from kreisel._simulate import names
+
+
+@pytest.fixture(scope="module")
+def lagrange():
+    top = kreisel.LagrangeTop(1.75e-4, 2e-5, 0.1, 0.04)
+    return top, top.state(0.5, psi_dot=300.0)
+
+
+@pytest.fixture(scope="module")
+def tippe():
+    top = kreisel.PlayTop(0.02, 2.56e-6, 3.2e-6, 0.006, 0.02, friction=kreisel.Viscous(1.0))
+    return top, top.state(3.0, psi_dot=150.0)
+
+
+@pytest.mark.parametrize("event", [kreisel.events.rest(), kreisel.events.inversion(0.9)])
+def test_a_play_top_event_on_a_pivot_top_is_refused_by_name(lagrange, event):
+    top, st = lagrange
+    with pytest.raises(kreisel.ParameterError, match=r"events\[0\].*heavy top has the events"):
+        kreisel.simulate(top, st, 0.01, events=[event])
+
+
+def test_a_pivot_top_event_on_a_play_top_is_refused_by_name(tippe):
+    top, st = tippe
+    with pytest.raises(kreisel.ParameterError, match=r"events\[0\].*play top has the events"):
+        kreisel.simulate(top, st, 0.01, events=[kreisel.events.turning_points()])
+
+
+@pytest.mark.parametrize("method", ["rk4", "splitting", "verlet", "midpoint", "gauss4"])
+def test_a_fixed_step_run_of_more_steps_than_allowed_is_refused_at_once(lagrange, method):
+    top, st = lagrange
+    start = time.perf_counter()
+    with pytest.raises(kreisel.ParameterError, match=r"dt = 1e-300 is not allowed: t_end / dt"):
+        kreisel.simulate(top, st, 0.01, method=method, dt=1e-300)
+    assert time.perf_counter() - start < 1.0
+    # the cap is the core's, the same for every entry point
+    with pytest.raises(kreisel.ParameterError, match="dt"):
+        kreisel.simulate_many(top, [st], 0.01, method=method, dt=1e-300)
+
+
+def test_empty_output_times_give_empty_columns(lagrange, tippe):
+    top, st = lagrange
+    traj = kreisel.simulate(top, st, 0.01, t_eval=[])
+    for name in traj.columns:
+        assert len(traj[name]) == 0, name
+    assert "M3" in traj.columns and traj.status == "completed"
+    top, st = tippe
+    traj = kreisel.simulate(top, st, 0.01, t_eval=[])
+    for name in traj.columns:
+        assert len(traj[name]) == 0, name
+
+
+def test_status_says_how_a_run_ended(lagrange, tippe):
+    top, st = lagrange
+    assert kreisel.simulate(top, st, 0.05).status == "completed"
+    ev = kreisel.events.turning_points(terminal=True)
+    traj = kreisel.simulate(top, st, 1.0, events=[ev])
+    assert traj.status == "event" and traj.t[-1] == traj.events[0].t < 1.0
+    top, st = tippe
+    traj = kreisel.simulate(top, st, 8.0, events=[kreisel.events.inversion(0.9, terminal=True)])
+    assert traj.status == "event" and traj.events[-1].name == "inversion"
+    assert traj.t[-1] == traj.events[-1].t
+
+
+def test_event_index_is_the_position_in_the_users_list(tippe):
+    """The play top's own contact switches have index -1; the user's events their
+    position in the list, whatever kind of top."""
+    top = kreisel.PlayTop(
+        0.02, 2.56e-6, 3.2e-6, 0.006, 0.02, friction=kreisel.Coulomb(0.3), restitution=0.5
+    )
+    st = top.state(2.0, theta_dot=5.0, psi_dot=80.0, height=0.01)
+    evs = [kreisel.events.rest(terminal=False), kreisel.events.inversion(-0.5)]
+    traj = kreisel.simulate(top, st, 1.0, events=evs)
+    own = {"lift_off", "touchdown", "slip_to_roll", "roll_to_slip"}
+    assert any(e.name in own for e in traj.events)
+    for e in traj.events:
+        if e.name in own:
+            assert e.index == -1, e
+        else:
+            assert evs[e.index].name == e.name, e
+
+
+def test_the_core_names_every_mode_and_summary_the_python_layer_shows(tippe):
+    top, st = tippe
+    traj = kreisel.simulate(top, st, 3.0)
+    assert set(np.unique(traj.mode)) <= set(names()["modes"])
+    fields = {f["name"] for f in names()["summaries"] if f["default"]}
+    play = kreisel.simulate_many(top, [st], 0.5)
+    assert {f.name for f in dataclasses.fields(play)} - {"errors"} == {
+        f["name"] for f in names()["summaries"] if f["model"] == "play"
+    }
+    lt = kreisel.LagrangeTop(1.75e-4, 2e-5, 0.1, 0.04)
+    heavy = kreisel.simulate_many(lt, [lt.state(0.5, psi_dot=300.0)], 0.01)
+    assert {f.name for f in dataclasses.fields(heavy)} - {"errors"} <= fields
+
+
+def test_settings_are_checked_by_the_core_with_the_same_words_for_every_model(lagrange, tippe):
+    for top, st in (lagrange, tippe):
+        for kw, match in [
+            (dict(rtol=2.0), r"rtol = 2 is not allowed: it must lie in \[1e-15, 1\)"),
+            (dict(atol=0.0), r"atol = 0 is not allowed"),
+            (dict(t_eval=[0.0, 0.02]), r"t_eval = 0.02 is not allowed.*\[0, t_end = 0.01\]"),
+            (dict(t_eval=[0.005, 0.001]), r"t_eval\[1\] = 0.001 is not allowed: .*ascending"),
+        ]:
+            with pytest.raises(kreisel.ParameterError, match=match):
+                kreisel.simulate(top, st, 0.01, **kw)
+        with pytest.raises(kreisel.ParameterError, match=r"t_end = -1 is not allowed"):
+            kreisel.simulate(top, st, -1.0)
+        with pytest.raises(kreisel.ParameterError, match=r"t_end = -1 is not allowed"):
+            kreisel.simulate_many(top, [st], -1.0)

@@ -125,6 +125,16 @@ def many(
     threads: int | None = None,
 ) -> dict[str, Any]: ...
 def names() -> dict[str, Any]: ...
+def check_settings(
+    model: HeavyTop | PlayTop,
+    t_end: float,
+    method: str,
+    rtol: float,
+    atol: float,
+    dt: float | None = None,
+    events: Sequence[EventTuple] = ...,
+    reduced: bool = False,
+) -> None: ...
 def lyapunov_many(
     tops: Sequence[HeavyTop],
     states: Sequence[tuple[Quaternion, Vector3]],

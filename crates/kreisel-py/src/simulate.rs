@@ -460,6 +460,30 @@ pub fn many<'py>(
     }
 }
 
+/// Checks settings for a native model exactly as `simulate` would (the core's one check and
+/// the model's own rules), without running anything.
+#[pyfunction]
+#[pyo3(signature = (model, t_end, method, rtol, atol, dt=None, events=Vec::new(), reduced=false))]
+#[allow(clippy::too_many_arguments)]
+pub fn check_settings(
+    py: Python<'_>,
+    model: &Bound<'_, PyAny>,
+    t_end: f64,
+    method: String,
+    rtol: f64,
+    atol: f64,
+    dt: Option<f64>,
+    events: Vec<EventTuple>,
+    reduced: bool,
+) -> PyResult<()> {
+    let st = settings(t_end, method, rtol, atol, dt, None, &events, reduced)?;
+    let users = st.user_events();
+    match native(model)? {
+        Native::Heavy(top) => core::check(&top, &st, users).map(|_| ()).py(py),
+        Native::Play(top) => core::check(&top, &st, users).map(|_| ()).py(py),
+    }
+}
+
 /// Every public name the Python layer reads: methods, contact modes, kinds of motion,
 /// the summaries with units and descriptions, and the run statuses.
 #[pyfunction]

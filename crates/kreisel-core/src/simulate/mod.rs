@@ -185,7 +185,11 @@ impl Settings {
                     return Err(KreiselError::InvalidParameter {
                         name: "dt".into(),
                         value: "None".into(),
-                        allowed: format!("method {:?} has a fixed step: give dt > 0", info.name),
+                        allowed: format!(
+                            "dt is missing: method {:?} takes fixed steps; give dt > 0 (s), \
+                             e.g. 1e-4",
+                            info.name
+                        ),
                     })
                 }
                 Some(dt) if !(dt.is_finite() && dt > 0.0) => {

@@ -20,7 +20,6 @@ fn motion(x: &StationaryMotion) -> Motion {
 #[pyclass(name = "PlayStability", module = "kreisel._core", frozen)]
 pub struct PyPlayStability {
     theory: PlayStability,
-    top: PlayTop,
 }
 
 #[pymethods]
@@ -29,8 +28,7 @@ impl PyPlayStability {
     fn new(py: Python<'_>, top: PyRef<'_, PyPlayTop>) -> PyResult<Self> {
         let t = top.inner;
         Ok(PyPlayStability {
-            theory: PlayStability::new(t.m, t.a, t.c, t.s, t.rho, t.g).py(py)?,
-            top: t,
+            theory: PlayStability::new(&t).py(py)?,
         })
     }
 
@@ -93,7 +91,7 @@ impl PyPlayStability {
     ) -> PyResult<(f64, f64, f64, f64)> {
         let top = PlayTop {
             friction: Friction::Frictionless,
-            ..self.top
+            ..*self.theory.top()
         };
         let r = st::frictionless_nutation(&top, &pack(&state)).py(py)?;
         Ok((r.u_range.0, r.u_range.1, r.period, r.lagrange_period))

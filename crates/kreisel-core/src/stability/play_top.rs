@@ -27,21 +27,17 @@
 //!   notes).
 
 use crate::error::{finite, positive, KreiselError, Result};
-use crate::models::play_top::{Friction, PlayTop, DIM};
+use crate::models::play_top::{PlayTop, DIM};
 use crate::rotation::{cross, Quat};
 use crate::special::cubic::Poly3;
 use crate::special::elliptic::ellipk_m1;
 use crate::special::jacobi;
 
-/// The stationary-motion theory of one play top (parameters only).
+/// The stationary-motion theory of one play top: the top itself, with the theory's own
+/// conditions checked (s > 0, g > 0); its friction law plays no part.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PlayStability {
-    m: f64,
-    a: f64,
-    c: f64,
-    s: f64,
-    rho: f64,
-    g: f64,
+    top: PlayTop,
 }
 
 /// The kinds of stationary motion.
@@ -236,59 +232,46 @@ pub fn zone_boundaries(alpha: f64) -> [f64; 4] {
 }
 
 impl PlayStability {
-    /// The theory of a top with mass `m`, moments `a`, `c` about G, `s > 0`, `rho > 0` and
-    /// `g > 0` (with s = 0 or g = 0 there is no torque and J_beta = 0).
-    pub fn new(m: f64, a: f64, c: f64, s: f64, rho: f64, g: f64) -> Result<Self> {
-        PlayTop::new(
-            m,
-            a,
-            c,
-            s,
-            rho,
-            g,
-            Friction::Frictionless,
-            0.0,
-            0.0,
-            0.0,
-            0.0,
-        )?;
-        if s <= 0.0 {
+    /// The theory of a play top (checked when it was made): it needs `s > 0` and `g > 0`
+    /// (with s = 0 or g = 0 there is no torque and J_beta = 0).
+    pub fn new(top: &PlayTop) -> Result<Self> {
+        if top.s <= 0.0 {
             return Err(KreiselError::invalid(
                 "s",
-                s,
+                top.s,
                 "the stationary-motion theory needs s > 0 (with G at the sphere's centre \
                  gravity exerts no torque and J_beta = 0)",
             ));
         }
-        if g <= 0.0 {
+        if top.g <= 0.0 {
             return Err(KreiselError::invalid(
                 "g",
-                g,
+                top.g,
                 "the stationary-motion theory needs g > 0 (J_beta = rho sqrt(C m g s))",
             ));
         }
-        Ok(PlayStability { m, a, c, s, rho, g })
+        Ok(PlayStability { top: *top })
     }
 
-    /// The theory of a play top's body (its friction law plays no part).
-    pub fn from_top(top: &PlayTop) -> Result<Self> {
-        Self::new(top.m, top.a, top.c, top.s, top.rho, top.g)
+    /// The top whose theory this is.
+    pub fn top(&self) -> &PlayTop {
+        &self.top
     }
 
     /// s / rho.
     pub fn alpha(&self) -> f64 {
-        self.s / self.rho
+        self.top.s / self.top.rho
     }
     /// A / C.
     pub fn gamma(&self) -> f64 {
-        self.a / self.c
+        self.top.a / self.top.c
     }
     /// J_beta = rho sqrt(C m g s) (kg m^2/s).
     pub fn j_beta(&self) -> f64 {
-        self.rho * (self.c * self.m * self.g * self.s).sqrt()
+        self.top.rho * (self.top.c * self.top.m * self.top.g * self.top.s).sqrt()
     }
     fn mgs(&self) -> f64 {
-        self.m * self.g * self.s
+        self.top.m * self.top.g * self.top.s
     }
 
     /// N(u) = (alpha + u)^2 + gamma (1 - u^2).
@@ -365,7 +348,7 @@ impl PlayStability {
                 ),
             ));
         }
-        let omega = (self.mgs() / (self.c * d)).sqrt();
+        let omega = (self.mgs() / (self.top.c * d)).sqrt();
         Ok(RegularPrecession {
             u,
             omega,
@@ -379,7 +362,7 @@ impl PlayStability {
     /// `V(u) = J^2 / (2 rho^2 C N(u)) + m g (rho + s u)` (J). Infinite where N = 0 and J != 0
     /// (alpha = 1, u = -1: G sits at the contact point and no spin about it carries J).
     pub fn energy(&self, j: f64, u: f64) -> f64 {
-        let pot = self.m * self.g * (self.rho + self.s * u);
+        let pot = self.top.m * self.top.g * (self.top.rho + self.top.s * u);
         if j == 0.0 {
             return pot;
         }
@@ -387,7 +370,7 @@ impl PlayStability {
         if n <= 0.0 {
             return f64::INFINITY;
         }
-        j * j / (2.0 * self.rho * self.rho * self.c * n) + pot
+        j * j / (2.0 * self.top.rho * self.top.rho * self.top.c * n) + pot
     }
 
     /// dV/du at fixed J: `m g s - J^2 D / (rho^2 C N^2)`.
@@ -396,7 +379,7 @@ impl PlayStability {
             return self.mgs();
         }
         let n = self.n(u);
-        self.mgs() - j * j * self.d(u) / (self.rho * self.rho * self.c * n * n)
+        self.mgs() - j * j * self.d(u) / (self.top.rho * self.top.rho * self.top.c * n * n)
     }
 
     fn motion(&self, kind: StationaryKind, j: f64, u: f64, stable: bool) -> StationaryMotion {
@@ -404,7 +387,7 @@ impl PlayStability {
         let omega = if j == 0.0 {
             0.0
         } else {
-            j / (self.rho * self.c * n)
+            j / (self.top.rho * self.top.c * n)
         };
         StationaryMotion {
             kind,
@@ -539,7 +522,7 @@ impl PlayStability {
         let all = self.stationary_motions(j)?;
         // Round-off may put a stationary state a hair below its own V.
         let e = energy.max(self.energy(j, u0));
-        let tol = 1e-12 * e.abs().max(self.mgs() * self.rho);
+        let tol = 1e-12 * e.abs().max(self.mgs() * self.top.rho);
         let ok = |m: &StationaryMotion| m.energy <= e + tol;
         let mut reachable = Vec::new();
         // Walk left from u0, then right, while the stationary points stay below E.
@@ -701,10 +684,25 @@ pub fn frictionless_nutation(top: &PlayTop, y: &[f64; DIM]) -> Result<Frictionle
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::models::play_top::Friction;
 
     fn top(alpha: f64, gamma: f64) -> PlayStability {
         let (m, rho, c) = (0.1, 0.02, 2e-5);
-        PlayStability::new(m, gamma * c, c, alpha * rho, rho, 9.81).unwrap()
+        let top = PlayTop::new(
+            m,
+            gamma * c,
+            c,
+            alpha * rho,
+            rho,
+            9.81,
+            Friction::Frictionless,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+        )
+        .unwrap();
+        PlayStability::new(&top).unwrap()
     }
 
     #[test]

@@ -717,7 +717,7 @@ mod tests {
                 let scale = t.mgs();
                 assert!(t.energy_du(rp.j, u).abs() < 1e-12 * scale, "{al} {ga} {u}");
                 // Omega^2 = m g s / (C D) agrees with Omega = J / (rho C N).
-                let om = rp.j / (t.rho * t.c * t.n(u));
+                let om = rp.j / (t.top().rho * t.top().c * t.n(u));
                 assert!((om / rp.omega - 1.0).abs() < 1e-14);
             }
         }

@@ -155,3 +155,41 @@ def test_a_long_run_stops_on_ctrl_c():
     out, _ = p.communicate(timeout=30)
     assert out.strip() == "interrupted"
     assert time.perf_counter() - start < 2.0
+
+
+def test_the_core_gives_the_columns_figures_need_as_a_second_formula_does():
+    """Exact Lagrange trajectories carry E, Mz, M3 and the potential; heavy trajectories the
+    potential; rotation matrices and quaternions of Euler angles come from the core. Each is
+    compared with the textbook formula written out here in numpy (Goldstein's z-x-z forms)."""
+    from kreisel import _core
+
+    top = kreisel.LagrangeTop(1.75e-4, 2e-5, 0.1, 0.04)
+    st = top.state(0.6, theta_dot=1.0, phi_dot=2.0, psi_dot=300.0)
+    ex = top.exact(st, np.linspace(0.0, 0.3, 50))
+    th, thd, phd, psd = ex.theta, ex.theta_dot, ex.phi_dot, ex.psi_dot
+    w3 = psd + phd * np.cos(th)
+    m3 = top.I3 * w3
+    mz = top.I1 * phd * np.sin(th) ** 2 + m3 * np.cos(th)
+    v = top.m * top.g * top.l * np.cos(th)
+    e = 0.5 * top.I1 * (thd**2 + (phd * np.sin(th)) ** 2) + 0.5 * top.I3 * w3**2 + v
+    for name, ref in (("energy", e), ("Mz", mz), ("M3", m3), ("potential", v)):
+        np.testing.assert_allclose(ex[name], ref, rtol=1e-13, atol=1e-15, err_msg=name)
+    # the exact motion keeps them: their spread is round-off
+    assert np.ptp(ex.energy) < 1e-12 * abs(ex.energy[0]) + 1e-15
+
+    traj = kreisel.simulate(top, st, 0.05)
+    q = traj.quaternion
+    w, x, y, z = q.T
+    gamma3 = np.stack([2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)], 1)
+    np.testing.assert_allclose(traj.potential, top.m * top.g * top.l * gamma3[:, 2], atol=1e-15)
+    rot = _core.rotation_matrices(q)
+    np.testing.assert_allclose(rot[:, 2, :], gamma3, atol=1e-15)
+    np.testing.assert_allclose(rot @ np.swapaxes(rot, 1, 2), np.broadcast_to(np.eye(3), rot.shape),
+                               atol=1e-14)  # fmt: skip
+    # q(phi, theta, psi) = qz(phi) qx(theta) qz(psi), halves of the angles
+    a, b = 0.5 * (traj.phi + traj.psi), 0.5 * (traj.phi - traj.psi)
+    c, s = np.cos(0.5 * traj.theta), np.sin(0.5 * traj.theta)
+    ref = np.stack([c * np.cos(a), s * np.cos(b), s * np.sin(b), c * np.sin(a)], -1)
+    got = _core.quaternions_from_euler(traj.phi, traj.theta, traj.psi)
+    np.testing.assert_allclose(np.abs(np.sum(got * ref, axis=1)), 1.0, atol=1e-14)
+    np.testing.assert_allclose(np.abs(np.sum(got * q, axis=1)), 1.0, atol=1e-12)

@@ -125,6 +125,19 @@ def many(
     threads: int | None = None,
 ) -> dict[str, Any]: ...
 def names() -> dict[str, Any]: ...
+def lagrange_columns(
+    i1: float,
+    i3: float,
+    m: float,
+    l: float,
+    g: float,
+    theta: F64,
+    theta_dot: F64,
+    phi_dot: F64,
+    psi_dot: F64,
+) -> dict[str, F64]: ...
+def rotation_matrices(q: F64) -> NDArray[np.float64]: ...
+def quaternions_from_euler(phi: F64, theta: F64, psi: F64) -> F64: ...
 def check_settings(
     model: HeavyTop | PlayTop,
     t_end: float,

@@ -14,20 +14,13 @@ _RIGID = (
 
 def lagrange_columns(traj):
     """Energy (J), Mz, M3 (kg m^2/s) and the potential (J) of an exact Lagrange trajectory
-    (computed from its angles and rates), or None for any other trajectory."""
+    (the core's columns, from its angles and rates), or None for any other trajectory."""
     from ._lagrange import LagrangeTop
 
     top = getattr(traj, "model", None)
     if not isinstance(top, LagrangeTop) or "psi_dot" not in traj.columns:
         return None
-    th, thd, phd, psd = traj.theta, traj.theta_dot, traj.phi_dot, traj.psi_dot
-    s, c = np.sin(th), np.cos(th)
-    w3 = psd + phd * c
-    m3 = top.I3 * w3
-    mz = top.I1 * phd * s * s + m3 * c
-    v = top.m * top.g * top.l * c
-    e = 0.5 * top.I1 * (thd**2 + (phd * s) ** 2) + 0.5 * top.I3 * w3**2 + v
-    return {"energy": e, "Mz": mz, "M3": m3, "potential": v}
+    return {k: traj[k] for k in ("energy", "Mz", "M3", "potential")}
 
 
 def _angular_momentum(traj):

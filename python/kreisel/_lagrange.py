@@ -7,7 +7,7 @@ import numpy as np
 from . import _core
 from ._heavy import RigidState, _Rigid, euler_state
 from ._state import EulerState, Invariants, NutationAnalysis
-from ._trajectory import Trajectory
+from ._trajectory import Deferred, Trajectory
 from ._validate import real, times
 
 
@@ -162,9 +162,18 @@ class LagrangeTop(_Rigid):
         elliptic functions at every time instead (slow; for checks).
         """
         ts = times("t", t)
-        cols = self._native.exact(self._tuple(state), ts, direct)
-        names = ("theta", "phi", "psi", "theta_dot", "phi_dot", "psi_dot")
-        return Trajectory({"t": ts, **dict(zip(names, cols))}, model=self, state=state)
+        cols = dict(
+            zip(
+                ("theta", "phi", "psi", "theta_dot", "phi_dot", "psi_dot"),
+                self._native.exact(self._tuple(state), ts, direct),
+            )
+        )
+        p = (self._I1, self._I3, self._m, self._l, self._g)
+        rates = [cols[k] for k in ("theta", "theta_dot", "phi_dot", "psi_dot")]
+        # the invariants at every time, computed by the core when first read
+        later = Deferred(lambda: _core.lagrange_columns(*p, *rates))
+        cols.update(dict.fromkeys(("energy", "Mz", "M3", "potential"), later))
+        return Trajectory({"t": ts, **cols}, model=self, state=state)
 
     # -- steady precession and the sleeping top --------------------------------------------
 

@@ -168,23 +168,20 @@ def _mesh(shape: Shape, around: int):
 
 
 def _rotation(q):
-    """Rotation matrices (n, 3, 3) of unit quaternions (n, 4), (w, x, y, z)."""
-    w, x, y, z = np.moveaxis(np.asarray(q, dtype=float), -1, 0)
-    return np.stack(
-        [
-            np.stack([1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)], -1),
-            np.stack([2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)], -1),
-            np.stack([2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)], -1),
-        ],
-        -2,
-    )
+    """Rotation matrices (n, 3, 3) of unit quaternions (n, 4), (w, x, y, z): the core's."""
+    from . import _core
+
+    return _core.rotation_matrices(np.ascontiguousarray(q, dtype=float).reshape(-1, 4))
 
 
 def _euler_quaternion(phi, theta, psi):
-    """Quaternions (n, 4) of z-x-z Euler angles: q = qz(phi) qx(theta) qz(psi)."""
-    a, b = 0.5 * (phi + psi), 0.5 * (phi - psi)
-    c, s = np.cos(0.5 * theta), np.sin(0.5 * theta)
-    return np.stack([c * np.cos(a), s * np.cos(b), s * np.sin(b), c * np.sin(a)], -1)
+    """Quaternions (n, 4) of z-x-z Euler angles (the core's): q = qz(phi) qx(theta) qz(psi)."""
+    from . import _core
+
+    def a(x):
+        return np.ascontiguousarray(np.atleast_1d(x), dtype=float)
+
+    return _core.quaternions_from_euler(a(phi), a(theta), a(psi))
 
 
 def _slerp(t, ts, qs):

@@ -177,21 +177,10 @@ def _lagrange_columns(traj):
 
 
 def _potential(traj):
-    """Potential energy m g z_G (J) of a rigid-top trajectory, or None."""
-    lag = _lagrange_columns(traj)
-    if lag is not None:
-        return lag["potential"]
-    model = getattr(traj, "model", None)
-    if model is None or "quaternion" not in traj.columns:
-        return None
-    from ._lagrange import LagrangeTop
-
-    com = np.array([0.0, 0.0, model.l]) if isinstance(model, LagrangeTop) else model.com
-    q = np.asarray(traj.quaternion)
-    w, x, y, z = q.T
-    # third row of the rotation matrix: the vertical component of R com
-    row = np.stack([2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)], axis=1)
-    return model.m * model.g * (row @ com)
+    """Potential energy m g z_G (J) of a rigid-top trajectory (the core's column), or None."""
+    if "potential" in traj.columns:
+        return traj.potential
+    return None
 
 
 def rigid_time_series(traj, fig=None):

@@ -1,6 +1,7 @@
 //! The compiled module `kreisel._core`: PyO3 bindings of kreisel-core, no physics here.
 
 mod batch;
+mod columns;
 mod errors;
 mod heavy;
 mod lagrange;
@@ -22,6 +23,9 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(simulate::many, m)?)?;
     m.add_function(wrap_pyfunction!(simulate::names, m)?)?;
     m.add_function(wrap_pyfunction!(simulate::check_settings, m)?)?;
+    m.add_function(wrap_pyfunction!(columns::lagrange_columns, m)?)?;
+    m.add_function(wrap_pyfunction!(columns::rotation_matrices, m)?)?;
+    m.add_function(wrap_pyfunction!(columns::quaternions_from_euler, m)?)?;
     m.add_function(wrap_pyfunction!(batch::lyapunov_many, m)?)?;
     m.add_function(wrap_pyfunction!(lagrange::check_euler_state, m)?)?;
     m.add_function(wrap_pyfunction!(heavy::rigid_from_euler, m)?)?;

@@ -232,6 +232,7 @@ impl PyRun {
                 d.set_item("phi", c.phi.into_pyarray(py))?;
                 d.set_item("psi", c.psi.into_pyarray(py))?;
                 d.set_item("energy", c.energy.into_pyarray(py))?;
+                d.set_item("potential", c.potential.into_pyarray(py))?;
                 d.set_item("Mz", c.mz.into_pyarray(py))?;
                 if let Some(v) = c.m3 {
                     d.set_item("M3", v.into_pyarray(py))?;

@@ -11,7 +11,7 @@ use crate::integrate::fixed::{self, FixedScheme};
 use crate::integrate::implicit::{Gauss4, Midpoint};
 use crate::integrate::rk4::Rk4Scheme;
 use crate::integrate::{Dop853, EventSpec, IntegrateError, Locator, OdeSystem, Stream, WithEvents};
-use crate::rotation::{euler_from_quaternion, Quat};
+use crate::rotation::{dot, euler_from_quaternion, Quat};
 use crate::simulate::{
     self, relative, Accumulate, EventKind, EventRecord, MethodInfo, Model, RunInfo, Settings, Sink,
     Stats, Status, Unwrapped, UserFn, MAX_STEPS,
@@ -305,6 +305,8 @@ pub struct Columns {
     pub energy: Vec<f64>,
     /// Vertical angular momentum (kg m^2/s).
     pub mz: Vec<f64>,
+    /// Potential energy m g c.Gamma (J).
+    pub potential: Vec<f64>,
     /// Axial angular momentum where it is an integral.
     pub m3: Option<Vec<f64>>,
     /// Kovalevskaya's integral where it is one.
@@ -320,7 +322,7 @@ const PROBE: RigidState = RigidState {
 impl HeavyTop {
     /// The names of the diagnostics columns of this top's runs ([`HeavyTop::columns`]).
     pub fn column_names(&self) -> Vec<&'static str> {
-        let mut names = vec!["theta", "phi", "psi", "energy", "Mz"];
+        let mut names = vec!["theta", "phi", "psi", "energy", "potential", "Mz"];
         if self.m3(&PROBE).is_some() {
             names.push("M3");
         }
@@ -340,6 +342,7 @@ impl HeavyTop {
             psi: Vec::with_capacity(n),
             energy: Vec::with_capacity(n),
             mz: Vec::with_capacity(n),
+            potential: Vec::with_capacity(n),
             m3: top.m3(&PROBE).map(|_| Vec::with_capacity(n)),
             kovalevskaya: top.kovalevskaya(&PROBE).map(|_| Vec::with_capacity(n)),
         };
@@ -352,6 +355,7 @@ impl HeavyTop {
             c.psi.push(psi);
             c.energy.push(top.energy(s));
             c.mz.push(top.mz(s));
+            c.potential.push(dot(top.mgc(), s.q.up_in_body()));
             if let Some(v) = c.m3.as_mut() {
                 v.push(top.m3(s).unwrap_or(f64::NAN));
             }

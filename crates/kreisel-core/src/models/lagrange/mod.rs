@@ -5,8 +5,10 @@
 //! along the figure axis. Euler angles are z-x-z with theta from the upward vertical, so
 //! the potential energy is `m g l cos(theta)`.
 
+mod columns;
 mod exact;
 
+pub use columns::LagrangeColumns;
 pub use exact::{LagrangeExact, MotionKind};
 
 use crate::error::{finite, non_negative, positive, KreiselError, Result};

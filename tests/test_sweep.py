@@ -586,3 +586,23 @@ def test_tasks_that_split_or_span_chunks_give_the_same_store(tmp_path, monkeypat
     assert_same(whole, split)
     assert split.attrs["run_errors"] == whole.attrs["run_errors"]
     assert len(json.loads(split.attrs["run_errors"])) == 4  # the runs below the floor
+
+
+def test_failed_runs_store_the_same_steps_wherever_they_failed(tmp_path):
+    """A run that cannot start (a state error, found in Python) and a run the core refuses
+    (Stoermer-Verlet on an asymmetric top) both store steps = -1, status 2 and their message;
+    the one that went through stores its steps."""
+    tables = {
+        "top": {"kind": "heavy", "I1": 2.0, "I3": 1.0, "m": 1.0, "g": 1.0, "com": [0, 0, 0.2]},
+        "state": {"psi_dot": 1.0, "phi_dot": 0.3},
+        "simulation": {"t_end": 0.5, "method": "verlet", "dt": 1e-3},
+        "grid": {"I2": [2.0, 2.5], "theta": [1.0, -1.0]},
+        "output": {"keep": ["final_theta", "steps"]},
+    }
+    ds = kreisel.sweep(tables, tmp_path / "v.zarr", progress=False)
+    steps, status = ds["steps"].values, ds["status"].values
+    assert steps[0, 0] == 500 and status[0, 0] == 1
+    assert np.all(steps[:, 1] == -1) and np.all(status[:, 1] == 2)  # theta < 0: no state
+    assert steps[1, 0] == -1 and status[1, 0] == 2  # the core: verlet needs I1 == I2
+    errors = json.loads(ds.attrs["run_errors"])
+    assert "verlet" in errors["1,0"] and "theta" in errors["0,1"] and "theta" in errors["1,1"]

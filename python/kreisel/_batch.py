@@ -146,34 +146,36 @@ def simulate_many(
     return _many(natives, flat, t_end, method, rtol, atol, dt, inversion_level, threads, progress)
 
 
-def _many(natives, flat, t_end, method, rtol, atol, dt, inversion_level, threads, progress):
-    """The core's batch on native models and flat states: the summary of each run."""
-    from ._simulate import _settings, names
+def _many_raw(natives, flat, t_end, method, rtol, atol, dt, inversion_level, threads, progress):
+    """The core's batch on native models and flat states: a column per summary of the model
+    (``kreisel._core.names()``; categories as int8 codes, -2 for a failed run; NaN where a
+    run failed) and ``errors``."""
+    from ._simulate import _settings
 
     t_end, method, rtol, atol, dt, _ = _settings(t_end, method, rtol, atol, dt, [])
-    play = bool(natives) and isinstance(natives[0], _core.PlayTop)
     events = []
-    if play:
+    if natives and isinstance(natives[0], _core.PlayTop):
         level = real("inversion_level", inversion_level)
         events = [("inversion", "inversion", None, level, 1, False)]
-    out = _in_pieces(
+    return _in_pieces(
         _core.many, progress, natives, flat, t_end, method, rtol, atol, dt, events,
         _threads(threads),
     )  # fmt: skip
+
+
+def _many(natives, flat, t_end, method, rtol, atol, dt, inversion_level, threads, progress):
+    """The summaries of a batch as a BatchSummary (play tops) or HeavyBatchSummary."""
+    from ._simulate import names
+
+    out = _many_raw(natives, flat, t_end, method, rtol, atol, dt, inversion_level, threads,
+                    progress)  # fmt: skip
     steps = np.nan_to_num(out.pop("steps"), nan=0.0).astype(np.int64)
     errors = tuple(out.pop("errors"))
-    if play:
+    if "final_mode" in out:
         modes = np.array([*names()["modes"], "error"])
         out["final_mode"] = modes[np.where(out["final_mode"] < 0, -1, out["final_mode"])]
         return BatchSummary(**out, steps=steps, errors=errors)
     return HeavyBatchSummary(**out, steps=steps, errors=errors)
-
-
-def _play_many_packed(natives, packed, t_end, rtol, atol, inversion_level, threads, progress):
-    """The play-top batch on native tops and packed states (q, omega, com, com_velocity)."""
-    flat = [[x for part in p for x in part] for p in packed]
-    return _many(natives, flat, t_end, "dop853", rtol, atol, None, inversion_level, threads,
-                 progress)  # fmt: skip
 
 
 PIECE = 64

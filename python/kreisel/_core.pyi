@@ -80,6 +80,9 @@ class PlayTop:
     def state(
         self, q: Quaternion, omega: Vector3, vx: float, vy: float, height: float | None = None
     ) -> Packed: ...
+    def state_from_euler(
+        self, euler: EulerTuple, vx: float, vy: float, height: float | None = None
+    ) -> Packed: ...
     def invariants(self, s: Packed) -> tuple[float, float]: ...
 
 class Run:

@@ -8,7 +8,7 @@ import numpy as np
 
 from . import _atlas, _core
 from ._errors import ParameterError
-from ._heavy import _vector, euler_state
+from ._heavy import _vector
 from ._validate import real
 
 
@@ -228,10 +228,13 @@ class PlayTop:
         """A state from Euler angles of e3 (z-x-z, rad) and their rates (rad/s), and the
         horizontal velocity of the centre of mass (m/s). In contact unless ``height`` (m, the
         gap between the tip and the floor, >= 0) is given: a dropped top."""
-        e = euler_state(theta, phi, psi, theta_dot, phi_dot, psi_dot)
-        q, w = _core.rigid_from_euler(*e.as_tuple())
+        e = [
+            real(k, v)
+            for k, v in (("theta", theta), ("phi", phi), ("psi", psi), ("theta_dot", theta_dot),
+                         ("phi_dot", phi_dot), ("psi_dot", psi_dot))
+        ]  # fmt: skip
         h = None if height is None else real("height", height)
-        return _state(self._native.state(q, w, real("vx", vx), real("vy", vy), h))
+        return _state(self._native.state_from_euler(e, real("vx", vx), real("vy", vy), h))
 
     def state_from_quaternion(self, q, omega, vx=0.0, vy=0.0, height=None) -> PlayState:
         """A state from a quaternion (w, x, y, z; normalised here) and the body angular

@@ -1,8 +1,9 @@
 //! Bindings of the play top: conversion only.
 
 use crate::errors::IntoPyResult;
+use kreisel_core::models::lagrange::EulerState;
 use kreisel_core::models::play_top::{Friction, PlayTop, DIM};
-use kreisel_core::rotation::Quat;
+use kreisel_core::rotation::{omega_body_from_euler, quaternion_from_euler, Quat};
 use pyo3::prelude::*;
 
 /// The native play top (parameters only).
@@ -93,6 +94,25 @@ impl PyPlayTop {
         height: Option<f64>,
     ) -> PyResult<Packed> {
         let y = self.inner.state(Quat(q), omega, vx, vy, height).py(py)?;
+        Ok(unpack(&y))
+    }
+
+    /// (q, omega, com, com_velocity) of a state given by Euler angles and rates, checked as
+    /// an `EulerState` is (one call where three were).
+    #[pyo3(signature = (euler, vx, vy, height=None))]
+    fn state_from_euler(
+        &self,
+        py: Python<'_>,
+        euler: [f64; 6],
+        vx: f64,
+        vy: f64,
+        height: Option<f64>,
+    ) -> PyResult<Packed> {
+        let [theta, phi, psi, theta_dot, phi_dot, psi_dot] = euler;
+        EulerState::new(theta, phi, psi, theta_dot, phi_dot, psi_dot).py(py)?;
+        let q = quaternion_from_euler(phi, theta, psi);
+        let w = omega_body_from_euler(theta, psi, theta_dot, phi_dot, psi_dot);
+        let y = self.inner.state(q, w, vx, vy, height).py(py)?;
         Ok(unpack(&y))
     }
 

@@ -364,8 +364,11 @@ pub fn simulate<'py>(
     Ok(d)
 }
 
+/// The code a category summary has where a run failed.
+const CATEGORY_ERROR: i8 = -2;
+
 /// Puts one column per summary field of `model` ("play" or "heavy"), NaN where a run failed
-/// (categories as int8 codes, -2 where a run failed), and the error messages.
+/// (categories as int8 codes, [`CATEGORY_ERROR`] where a run failed), and the error messages.
 fn summary_columns<'py, S>(
     py: Python<'py>,
     model: &str,
@@ -514,5 +517,6 @@ pub fn names(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
         .map(|s| s.name()),
     )?;
     d.set_item("max_steps", core::MAX_STEPS)?;
+    d.set_item("category_error", CATEGORY_ERROR)?;
     Ok(d)
 }

@@ -19,7 +19,7 @@ def compute_chunk(spec: dict, values: dict, threads=None) -> dict:
 
     ``spec`` is :meth:`SweepSpec.as_dict`, ``values`` the swept values of each run.
     """
-    from .._batch import _lyapunov_many, _play_many_packed, simulate_many
+    from .._batch import _lyapunov_many, _many_raw
 
     kind = spec["kind"]
     n = len(next(iter(values.values())))
@@ -67,14 +67,17 @@ def compute_chunk(spec: dict, values: dict, threads=None) -> dict:
             kw.update(method=sim.get("method", "dop853"), dt=sim.get("dt"))
         t_end = sim.get("t_end", _config.DEFAULT_T_END[kind])
         kept_here = [k for k in kept if k != "lyapunov"]
-        if kind == "play":  # states already packed: straight to the core's batch
-            res = _play_many_packed([m._native for m in models], states, t_end, kw["rtol"],
-                                    kw["atol"], kw["inversion_level"], threads, False)  # fmt: skip
-        else:
-            res = simulate_many(models, states, t_end, **kw) if kept_here else None
+        res = None
+        if kept_here:
+            # every model the same way: native models and flat states to the core's batch
+            natives = [m._native_model() for m in models]
+            flat = [_flat(m, st) for m, st in zip(models, states)]
+            res = _many_raw(natives, flat, t_end, kw.get("method", "dop853"), kw["rtol"],
+                            kw["atol"], kw.get("dt"), kw.get("inversion_level"), threads,
+                            False)  # fmt: skip
         idx = np.array(where)
         # a run fails if any of its computations does (the first message is kept)
-        messages = [res.errors] if res is not None else []
+        messages = [res["errors"]] if res is not None else []
         if "lyapunov" in kept:
             lam, lam_errors = _lyapunov_many(
                 models, states, t_end, tau=spec["lyapunov_tau"], d0=LYAPUNOV_D0,
@@ -84,11 +87,8 @@ def compute_chunk(spec: dict, values: dict, threads=None) -> dict:
             messages.append(lam_errors)
         res_errors = [next((m for m in ms if m), None) for ms in zip(*messages)]
         for name in kept_here:
-            col = getattr(res, name)
-            if name in CATEGORIES:
-                names = CATEGORIES[name]
-                col = np.array([names.index(m) if m in names else MODE_ERROR for m in col])
-            out[name][idx] = col
+            # categories come as the core's codes (MODE_ERROR where a run failed)
+            out[name][idx] = res[name]
         for j, msg in enumerate(res_errors):
             if msg is None:
                 status[where[j]] = 1
@@ -104,24 +104,27 @@ def compute_chunk(spec: dict, values: dict, threads=None) -> dict:
     return out
 
 
+def _flat(model, state):
+    """The flat native state of a packed play-top state or of a heavy top's state object."""
+    if isinstance(state, tuple):
+        return [x for part in state for x in part]
+    return model._native_state(state)
+
+
 _PLAY_STATE = ("theta", "phi", "psi", "theta_dot", "phi_dot", "psi_dot")
 
 
 def _play_packed(model, state: dict):
     """The packed contact (or dropped) state of a play top from a [state] table: what
     ``model.state(**state)`` gives, with the same checks, without the objects around it."""
-    from .. import _core
-
     unknown = set(state) - {*_PLAY_STATE, "vx", "vy", "height"}
     if unknown or "theta" not in state:
         return model._check(_config._state("play", model, state, ""))  # its messages
     try:
-        e = tuple(float(state.get(k, 0.0)) for k in _PLAY_STATE)
-        _core.check_euler_state(e)
-        q, w = _core.rigid_from_euler(*e)
+        e = [float(state.get(k, 0.0)) for k in _PLAY_STATE]
         h = state.get("height")
-        return model._native.state(
-            q, w, float(state.get("vx", 0.0)), float(state.get("vy", 0.0)),
+        return model._native.state_from_euler(
+            e, float(state.get("vx", 0.0)), float(state.get("vy", 0.0)),
             None if h is None else float(h),
         )  # fmt: skip
     except ParameterError:

@@ -35,7 +35,7 @@ MODES = tuple(_NAMES["modes"])
 MOTION_KINDS = tuple(_NAMES["motion_kinds"])
 # summaries with a few named values, stored as small integer codes (CF flag convention)
 CATEGORIES = {f["name"]: tuple(_NAMES[f["category"]]) for f in _FIELDS if f["category"]}
-MODE_PENDING, MODE_ERROR = -1, -2
+MODE_PENDING, MODE_ERROR = -1, _NAMES["category_error"]
 # the exact Lagrange top: no integration, the analysis of each state
 EXACT_SUMMARIES = _of("exact")
 SWEEP_TABLES = (*_config.TABLES, "grid", "random", "output")

@@ -54,11 +54,11 @@ impl Verlet {
     pub fn new(top: &HeavyTop, s: &RigidState) -> Result<(Self, Canonical)> {
         let sym = top.symmetric() && top.com()[0] == 0.0 && top.com()[1] == 0.0;
         if !sym || !matches!(top.kind(), TopKind::Lagrange | TopKind::Euler) {
-            return Err(KreiselError::invalid(
-                "method",
-                f64::NAN,
-                "\"verlet\" needs a symmetric top (I1 == I2, centre of mass on the 3-axis)",
-            ));
+            return Err(KreiselError::InvalidParameter {
+                name: "method".into(),
+                value: "\"verlet\"".into(),
+                allowed: "it needs a symmetric top (I1 == I2, centre of mass on the 3-axis)".into(),
+            });
         }
         let i = top.inertia();
         let v = Verlet {

@@ -193,3 +193,20 @@ def test_the_core_gives_the_columns_figures_need_as_a_second_formula_does():
     got = _core.quaternions_from_euler(traj.phi, traj.theta, traj.psi)
     np.testing.assert_allclose(np.abs(np.sum(got * ref, axis=1)), 1.0, atol=1e-14)
     np.testing.assert_allclose(np.abs(np.sum(got * q, axis=1)), 1.0, atol=1e-12)
+
+
+def test_friction_laws_are_typed_values_checked_by_the_core():
+    import pickle
+
+    for law in (kreisel.Coulomb(0.4), kreisel.Viscous(2.0), kreisel.Frictionless()):
+        again = pickle.loads(pickle.dumps(law))
+        assert again == law and repr(again) == repr(law)
+        assert law._native.law == {"Coulomb": "coulomb", "Viscous": "viscous"}.get(
+            type(law).__name__, "none"
+        )
+        assert law._native.mu == getattr(law, "mu", 0.0)
+    for make in (kreisel.Coulomb, kreisel.Viscous):
+        with pytest.raises(kreisel.ParameterError, match="mu = -1 is not allowed"):
+            make(-1.0)
+        with pytest.raises(kreisel.ParameterError, match="mu = nan is not allowed"):
+            make(float("nan"))

@@ -55,6 +55,20 @@ class HeavyTop:
         atol: float,
     ) -> dict[str, Any]: ...
 
+class Friction:
+    """A friction law, its coefficient checked by the core."""
+
+    @staticmethod
+    def coulomb(mu: float) -> Friction: ...
+    @staticmethod
+    def viscous(mu: float) -> Friction: ...
+    @staticmethod
+    def none() -> Friction: ...
+    @property
+    def law(self) -> str: ...
+    @property
+    def mu(self) -> float: ...
+
 class PlayTop:
     def __new__(
         cls,
@@ -64,8 +78,7 @@ class PlayTop:
         s: float,
         rho: float,
         g: float,
-        friction: str,
-        mu: float,
+        friction: Friction,
         restitution: float,
         rolling: float,
         drilling: float,

@@ -12,11 +12,11 @@ from ._heavy import _vector
 from ._validate import real
 
 
-def _check_mu(law) -> None:
+def _native_law(law, make) -> None:
+    """Converts mu and lets the core check it and build the law (kept as ``_native``)."""
     mu = real("mu", law.mu)
-    if mu < 0:
-        raise ParameterError(f"mu = {mu} is not allowed: a friction coefficient is >= 0")
     object.__setattr__(law, "mu", mu)
+    object.__setattr__(law, "_native", make(mu))
 
 
 @dataclass(frozen=True)
@@ -25,9 +25,13 @@ class Coulomb:
     while the needed force stays within |F_t| <= mu N (true stick-slip)."""
 
     mu: float = 0.3
+    _native: object = field(init=False, repr=False, compare=False)
 
     def __post_init__(self):
-        _check_mu(self)
+        _native_law(self, _core.Friction.coulomb)
+
+    def __reduce__(self):  # the native law is made again, not pickled
+        return (type(self), (self.mu,))
 
 
 @dataclass(frozen=True)
@@ -35,14 +39,26 @@ class Viscous:
     """Viscous friction: tangential force -mu N v_T at the contact (mu in s/m)."""
 
     mu: float = 1.0
+    _native: object = field(init=False, repr=False, compare=False)
 
     def __post_init__(self):
-        _check_mu(self)
+        _native_law(self, _core.Friction.viscous)
+
+    def __reduce__(self):
+        return (type(self), (self.mu,))
 
 
 @dataclass(frozen=True)
 class Frictionless:
     """No tangential force at the contact."""
+
+    _native: object = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self):
+        object.__setattr__(self, "_native", _core.Friction.none())
+
+    def __reduce__(self):
+        return (type(self), ())
 
 
 @dataclass(frozen=True)
@@ -154,11 +170,9 @@ class PlayTop:
             drilling_resistance=real("drilling_resistance", drilling_resistance),
             air_drag=real("air_drag", air_drag),
         )
-        kind = {Coulomb: "coulomb", Viscous: "viscous", Frictionless: "none"}[type(friction)]
         self._native = _core.PlayTop(
-            p["m"], p["A"], p["C"], p["s"], p["rho"], p["g"], kind,
-            getattr(friction, "mu", 0.0), p["restitution"], p["rolling_resistance"],
-            p["drilling_resistance"], p["air_drag"],
+            p["m"], p["A"], p["C"], p["s"], p["rho"], p["g"], friction._native,
+            p["restitution"], p["rolling_resistance"], p["drilling_resistance"], p["air_drag"],
         )  # fmt: skip
         self._p, self._friction = p, friction
 

@@ -17,6 +17,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<lagrange::PyLagrangeTop>()?;
     m.add_class::<heavy::PyHeavyTop>()?;
     m.add_class::<play::PyPlayTop>()?;
+    m.add_class::<play::PyFriction>()?;
     m.add_class::<simulate::PyRun>()?;
     m.add_class::<stability::PyPlayStability>()?;
     m.add_function(wrap_pyfunction!(simulate::simulate, m)?)?;

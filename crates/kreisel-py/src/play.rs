@@ -6,6 +6,45 @@ use kreisel_core::models::play_top::{Friction, PlayTop, DIM};
 use kreisel_core::rotation::{omega_body_from_euler, quaternion_from_euler, Quat};
 use pyo3::prelude::*;
 
+/// A friction law as a typed value, its coefficient checked by the core.
+#[pyclass(name = "Friction", module = "kreisel._core", frozen)]
+pub struct PyFriction {
+    pub inner: Friction,
+}
+
+#[pymethods]
+impl PyFriction {
+    /// Coulomb friction with coefficient mu (>= 0).
+    #[staticmethod]
+    fn coulomb(py: Python<'_>, mu: f64) -> PyResult<Self> {
+        let inner = Friction::Coulomb { mu }.checked().py(py)?;
+        Ok(PyFriction { inner })
+    }
+    /// Viscous friction, F_t = -mu N v_T (mu >= 0, s/m).
+    #[staticmethod]
+    fn viscous(py: Python<'_>, mu: f64) -> PyResult<Self> {
+        let inner = Friction::Viscous { mu }.checked().py(py)?;
+        Ok(PyFriction { inner })
+    }
+    /// No tangential force.
+    #[staticmethod]
+    fn none() -> Self {
+        PyFriction {
+            inner: Friction::Frictionless,
+        }
+    }
+    /// The law's name ("coulomb", "viscous", "none").
+    #[getter]
+    fn law(&self) -> &'static str {
+        self.inner.name()
+    }
+    /// Its coefficient (0 without friction).
+    #[getter]
+    fn mu(&self) -> f64 {
+        self.inner.mu()
+    }
+}
+
 /// The native play top (parameters only).
 #[pyclass(name = "PlayTop", module = "kreisel._core", frozen)]
 pub struct PyPlayTop {
@@ -46,23 +85,13 @@ impl PyPlayTop {
         s: f64,
         rho: f64,
         g: f64,
-        friction: &str,
-        mu: f64,
+        friction: PyRef<'_, PyFriction>,
         restitution: f64,
         rolling: f64,
         drilling: f64,
         air: f64,
     ) -> PyResult<Self> {
-        let fr = match friction {
-            "coulomb" => Friction::Coulomb { mu },
-            "viscous" => Friction::Viscous { mu },
-            "none" => Friction::Frictionless,
-            other => {
-                return Err(pyo3::exceptions::PyValueError::new_err(format!(
-                    "friction = {other:?} is not allowed: use \"coulomb\", \"viscous\" or \"none\""
-                )))
-            }
-        };
+        let fr = friction.inner;
         Ok(PyPlayTop {
             inner: PlayTop::new(m, a, c, s, rho, g, fr, restitution, rolling, drilling, air)
                 .py(py)?,

@@ -55,6 +55,26 @@ impl Friction {
         }
     }
 
+    /// The law, its coefficient checked (mu >= 0, finite).
+    pub fn checked(self) -> Result<Friction> {
+        match self {
+            Friction::Coulomb { mu } | Friction::Viscous { mu } => {
+                non_negative("mu", mu)?;
+            }
+            Friction::Frictionless => {}
+        }
+        Ok(self)
+    }
+
+    /// The law's public name.
+    pub const fn name(&self) -> &'static str {
+        match self {
+            Friction::Coulomb { .. } => "coulomb",
+            Friction::Viscous { .. } => "viscous",
+            Friction::Frictionless => "none",
+        }
+    }
+
     /// The coefficient mu (0 without friction).
     pub const fn mu(&self) -> f64 {
         match *self {
@@ -278,12 +298,7 @@ impl PlayTop {
                 format!("no rigid body has C > 2*A = {} (0 < C/A < 2)", 2.0 * a),
             ));
         }
-        match friction {
-            Friction::Coulomb { mu } | Friction::Viscous { mu } => {
-                non_negative("mu", mu)?;
-            }
-            Friction::Frictionless => {}
-        }
+        friction.checked()?;
         finite("restitution", restitution)?;
         if !(0.0..=1.0).contains(&restitution) {
             return Err(KreiselError::invalid(

@@ -180,32 +180,18 @@ impl LagrangeExact {
         let mut db = b0 - a * om0; // b - a
         let mut sb = b0 + a * op0; // b + a
 
-        // The turning points: roots of the gyro function between u0 and the verticals. At
-        // a vertical f = -(b -+ a)^2 <= 0 exactly; where the rounding of the polynomial
-        // there says otherwise, the turning point lies at the vertical to round-off
-        // (refined below in 1 -+ u).
-        let root = |q: &Poly3, lo: f64, hi: f64| {
-            let (flo, fhi) = (q.eval(lo), q.eval(hi));
-            if hi > 0.0 && fhi >= 0.0 && flo > 0.0 {
-                hi
-            } else if lo < 0.0 && flo >= 0.0 && fhi > 0.0 {
-                lo
-            } else {
-                q.root_in(lo, hi)
-            }
-        };
         let (dlo, dhi) = if c0 == 0.0 && c1 == 0.0 {
             (0.0, 0.0)
         } else if c0 == 0.0 {
             // u0 is a simple turning point; the other one is a root of the deflated quadratic.
             let q = Poly3([c1, c2, beta, 0.0]);
             if c1 > 0.0 {
-                (0.0, root(&q, 0.0, om0))
+                (0.0, q.root_in(0.0, om0))
             } else {
-                (root(&q, -op0, 0.0), 0.0)
+                (q.root_in(-op0, 0.0), 0.0)
             }
         } else {
-            (root(&p, -op0, 0.0), root(&p, 0.0, om0))
+            (p.root_in(-op0, 0.0), p.root_in(0.0, om0))
         };
         let mut lo = turn(u0, om0, op0, dlo, db, sb, beta, a, a0);
         let mut hi = turn(u0, om0, op0, dhi, db, sb, beta, a, a0);

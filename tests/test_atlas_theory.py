@@ -164,7 +164,10 @@ def test_J_R_is_vectorised_and_nan_where_no_precession_exists():
     j = pt.J_R(u)
     assert j.shape == (2, 2)
     assert np.isfinite(j[0]).all() and np.isfinite(j[1, 0]) and np.isnan(j[1, 1])
-    assert np.isnan(pt.J_R(1.2)) and np.isnan(pt.J_R(-1.01))
+    # Outside the inclinations, an error (issue 19): u = cos(theta) lies in [-1, 1].
+    for u in (1.2, -1.01, np.nan):
+        with pytest.raises(kreisel.ParameterError, match="^u = "):
+            pt.J_R(u)
     assert isinstance(pt.J_R(0.1), float)
     assert pt.J_R(-1.0) == pytest.approx(pt.J_beta * 0.7**2 / np.sqrt(0.8), rel=1e-14)
 

@@ -16,7 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import _core
-from ._validate import real
+from ._validate import floats, real
 
 
 @dataclass(frozen=True)
@@ -128,12 +128,9 @@ def _motion(t) -> StationaryMotion:
 
 def J_R(pt, u):
     """``J_R(u) = J_beta N(u)/sqrt(D(u))`` (kg m^2/s), the |J| of the regular precession at
-    inclination u; nan where none exists (D(u) <= 0 or |u| > 1). Same shape as ``u``."""
-    arr = np.asarray(u, dtype=float)
-    flat = np.ascontiguousarray(arr.ravel())
-    out = _theory(pt).j_r(flat)
-    out[~(np.abs(flat) <= 1.0)] = np.nan
-    out = out.reshape(arr.shape)
+    inclination u in [-1, 1]; nan where none exists (D(u) <= 0). Same shape as ``u``."""
+    arr = floats("u", u)
+    out = _theory(pt).j_r(np.ascontiguousarray(arr.ravel())).reshape(arr.shape)
     return float(out) if out.ndim == 0 else out
 
 

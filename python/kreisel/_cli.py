@@ -486,10 +486,11 @@ def _report(problem, data: dict, out: Path):
     click.echo(f"{data['top']['repr']}")
     click.echo(f"  from {data['state']['repr']}")
     sim = data["simulation"]
-    click.echo(f"  {sim['solver']} to t = {sim['t_end']:g} s: {res['samples']} samples")
+    click.echo(f"  {sim['solver']} to t = {_num(sim['t_end'])} s: {res['samples']} samples")
     if problem.kind == "lagrange":
         click.echo(
-            f"  motion: {a['motion']}; theta in [{a['theta_min']:.5f}, {a['theta_max']:.5f}] rad;"
+            f"  motion: {a['motion']}; theta in [{_num(a['theta_min'], '.5f')}, "
+            f"{_num(a['theta_max'], '.5f')}] rad;"
             f" nutation period {_num(a['nutation_period'])} s;"
             f" mean precession {_num(a['mean_precession_rate'])} rad/s"
         )
@@ -498,12 +499,12 @@ def _report(problem, data: dict, out: Path):
     else:
         inv = res.get("inversion_time")
         click.echo(
-            f"  alpha = {a['alpha']:.4g}, gamma = {a['gamma']:.4g}"
+            f"  alpha = {_num(a['alpha'], '.4g')}, gamma = {_num(a['gamma'], '.4g')}"
             + (" (a tippe top)" if a["tippe_top"] else "")
-            + f"; final u = {res['final']['u']:.5f} ({res['final']['mode']})"
-            + (f"; u rose through 0.9 at t = {inv:.4f} s" if inv is not None else "")
+            + f"; final u = {_num(res['final']['u'], '.5f')} ({res['final']['mode']})"
+            + (f"; u rose through 0.9 at t = {_num(inv, '.4f')} s" if inv is not None else "")
         )
-    drift = ", ".join(f"{k} {v:.1e}" for k, v in res["invariant_drift"].items())
+    drift = ", ".join(f"{k} {_num(v, '.1e')}" for k, v in res["invariant_drift"].items())
     if drift:
         click.echo(f"  largest relative drift: {drift}")
     files = data["files"]
@@ -513,8 +514,11 @@ def _report(problem, data: dict, out: Path):
     click.echo(f"wrote {out}/: {', '.join(listed)}")
 
 
-def _num(x):
-    return x if isinstance(x, str) else f"{x:.6g}"
+def _num(x, spec=".6g"):
+    """A number of the JSON summary: a float, or "inf" / "-inf" (a string), or None (nan)."""
+    if x is None:
+        return "nan"
+    return x if isinstance(x, str) else format(x, spec)
 
 
 def _to_toml(name: str, tables: dict) -> str:

@@ -93,6 +93,19 @@ def _real(where: str, name: str, value) -> float:
         raise ParameterError(f"{where}{e}") from None
 
 
+def _kind_of(value) -> str:
+    """What a TOML value is, in TOML's words."""
+    if isinstance(value, list):
+        if value and all(isinstance(v, dict) for v in value):
+            return "an array of tables ([[...]])"
+        return "an array"
+    if isinstance(value, str):
+        return f"the string {value!r}"
+    if isinstance(value, bool):
+        return f"the boolean {str(value).lower()}"
+    return f"the {type(value).__name__} {value!r}"
+
+
 def _check_fields(where: str, table: dict, allowed, what: str):
     if not isinstance(table, dict):
         raise ParameterError(f"{where} must be a table of fields, not {type(table).__name__}")
@@ -143,12 +156,16 @@ def from_tables(tables: dict, *, prefix: str = "", source: str = "") -> Problem:
             raise ParameterError(
                 f"{head}[{key}] is not a known table: allowed are [top], [state], [simulation]"
             )
+    for name in TABLES:
+        t = tables.get(name, {})
+        if not isinstance(t, dict):
+            raise ParameterError(
+                f"{head}[{name}] must be a table of fields ([{name}] NAME = value), not "
+                f"{_kind_of(t)}"
+            )
     top = dict(tables.get("top", {}))
     state = dict(tables.get("state", {}))
     sim = dict(tables.get("simulation", {}))
-    for name, t in (("top", top), ("state", state), ("simulation", sim)):
-        if not isinstance(t, dict):
-            raise ParameterError(f"{head}[{name}] must be a table, not {type(t).__name__}")
     chosen = top.pop("preset", None)
     if chosen is not None:
         base = preset(chosen)
@@ -305,5 +322,25 @@ def read_toml(path) -> dict:
             return tomllib.load(fh)
     except tomllib.TOMLDecodeError as e:
         raise ParameterError(f"{path} is not valid TOML: {e}") from None
+    except RecursionError:
+        raise ParameterError(
+            f"{path}{_deepest(path)}: arrays or inline tables nested too deeply"
+        ) from None
+
     except (OSError, UnicodeDecodeError) as e:
         raise ParameterError(f"{path} cannot be read: {e}") from None
+
+
+def _deepest(path) -> str:
+    """Where a TOML file nests deepest: ``", line N (field NAME)"``, or ``""``."""
+    try:
+        with open(path, encoding="utf-8", errors="replace") as fh:
+            lines = fh.readlines()
+    except OSError:
+        return ""
+    depth = [(max(line.count("["), line.count("{")), i) for i, line in enumerate(lines)]
+    if not depth:
+        return ""
+    _, i = max(depth)
+    key = lines[i].split("=", 1)[0].strip() if "=" in lines[i] else ""
+    return f", line {i + 1}" + (f" (field {key})" if key else "")

@@ -12,5 +12,10 @@ class ParameterError(KreiselError, ValueError):
     """
 
 
+class ParameterTypeError(ParameterError, TypeError):
+    """An argument of the wrong type (a number where a state is needed, ...): a
+    :class:`ParameterError` that is also a ``TypeError``. The message names the argument."""
+
+
 class NumericalError(KreiselError, RuntimeError):
     """A computation could not deliver a trustworthy result."""

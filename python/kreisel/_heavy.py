@@ -2,12 +2,13 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from . import _core
-from ._errors import ParameterError
+from ._errors import ParameterError, ParameterTypeError
 from ._state import EulerState
 from ._validate import real
 
@@ -56,6 +57,17 @@ def _vector(name: str, value, n: int) -> list[float]:
     return [real(f"{name}[{i}]", x) for i, x in enumerate(arr)]
 
 
+def _binary_scaled(q: list[float]) -> list[float]:
+    """``q`` times the power of two that puts its largest component in [0.5, 1): exact, so
+    the normalised quaternion is the same bit for bit, and neither its squares overflow
+    (``[1e300, 1e300, 0, 0]``) nor underflow (``[1e-300, 0, 0, 0]``)."""
+    big = max(abs(x) for x in q)
+    if big == 0.0:
+        return q
+    e = math.frexp(big)[1]
+    return [math.ldexp(x, -e) for x in q]
+
+
 def euler_state(theta, phi, psi, theta_dot, phi_dot, psi_dot) -> EulerState:
     """A validated EulerState."""
     s = EulerState(
@@ -77,7 +89,7 @@ def rigid_state(state) -> RigidState:
     if isinstance(state, EulerState):
         q, w = _core.rigid_from_euler(*state.as_tuple())
         return RigidState(np.array(q), np.array(w))
-    raise TypeError(
+    raise ParameterTypeError(
         f"state must be an EulerState or RigidState (from top.state(...) or "
         f"top.state_from_quaternion(...)), not {type(state).__name__}"
     )
@@ -93,9 +105,11 @@ class _Rigid:
         return euler_state(theta, phi, psi, theta_dot, phi_dot, psi_dot)
 
     def state_from_quaternion(self, q, omega) -> RigidState:
-        """A state from a quaternion (w, x, y, z; normalised here; not zero) and the body
-        angular velocity ``omega`` (rad/s, shape (3,))."""
-        qq, ww = self._heavy_native().check_rigid(_vector("q", q, 4), _vector("omega", omega, 3))
+        """A state from a quaternion (w, x, y, z; normalised here, components of any finite
+        size; not zero) and the body angular velocity ``omega`` (rad/s, shape (3,), each
+        component of magnitude at most 1e100)."""
+        w = [_core.check_rate(f"omega[{i}]", x) for i, x in enumerate(_vector("omega", omega, 3))]
+        qq, ww = self._heavy_native().check_rigid(_binary_scaled(_vector("q", q, 4)), w)
         return RigidState(np.array(qq), np.array(ww))
 
     def _native_model(self):
@@ -110,7 +124,15 @@ class _Rigid:
         """``{"energy", "Mz"}`` and, where they are integrals, ``"M3"`` and
         ``"kovalevskaya"``, of a state."""
         s = rigid_state(state)
-        return dict(self._heavy_native().invariants(list(s.quaternion), list(s.omega)))
+        out = dict(self._heavy_native().invariants(list(s.quaternion), list(s.omega)))
+        for name, value in out.items():
+            if not math.isfinite(value):
+                w = ", ".join(f"{x:g}" for x in s.omega)
+                raise ParameterError(
+                    f"state with omega = [{w}] is not allowed here: its {name} is {value}, "
+                    "not a finite number, for this top"
+                )
+        return out
 
     def lyapunov(
         self,

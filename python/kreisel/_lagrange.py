@@ -5,10 +5,11 @@ from __future__ import annotations
 import numpy as np
 
 from . import _core
+from ._errors import ParameterTypeError
 from ._heavy import RigidState, _Rigid, euler_state
 from ._state import EulerState, Invariants, NutationAnalysis
 from ._trajectory import Deferred, Trajectory
-from ._validate import real, times
+from ._validate import floats, real, times
 
 
 class LagrangeTop(_Rigid):
@@ -95,7 +96,7 @@ class LagrangeTop(_Rigid):
 
     def _tuple(self, state) -> tuple:
         if not isinstance(state, EulerState):
-            raise TypeError(
+            raise ParameterTypeError(
                 f"state must be an EulerState (from top.state(...)), not {type(state).__name__}"
             )
         return state.as_tuple()
@@ -112,7 +113,7 @@ class LagrangeTop(_Rigid):
         ``M3^2/(2 I1)``; that term is wrong: it is absent from the energy.)
         """
         Mz, M3 = real("Mz", Mz), real("M3", M3)
-        arr = np.asarray(theta, dtype=np.float64)
+        arr = floats("theta", theta)
         out = self._native.effective_potential(np.ascontiguousarray(arr.ravel()), Mz, M3)
         if arr.ndim == 0:
             return float(out[0])

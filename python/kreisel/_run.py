@@ -72,6 +72,10 @@ def summary(problem: Problem, traj) -> dict:
         a = model.analyse(state)
         inv = model.invariants(state)
         omega3 = state.psi_dot + state.phi_dot * math.cos(state.theta)
+        # A steady precession has 0 < theta < pi; at the vertical (a sleeping or hanging
+        # top) the sleeping threshold says what there is to say.
+        at_vertical = state.theta in (0.0, math.pi)
+        rates = None if at_vertical else list(model.steady_precession(state.theta, omega3))
         out["analysis"] = {
             "motion": a.kind,
             "theta_min": a.theta_min,
@@ -81,7 +85,7 @@ def summary(problem: Problem, traj) -> dict:
             "invariants": {"E": inv.E, "Mz": inv.Mz, "M3": inv.M3},
             "sleeping_threshold": model.sleeping_threshold(),
             "omega3": omega3,
-            "steady_precession_rates": list(model.steady_precession(state.theta, omega3)),
+            "steady_precession_rates": rates,
         }
     elif problem.kind == "heavy":
         out["analysis"] = {"kind": model.kind, "invariants": model.invariants(state)}

@@ -22,14 +22,21 @@ def real(name: str, value) -> float:
     return x
 
 
-def times(name: str, value) -> np.ndarray:
-    """``value`` as a contiguous 1-D float64 array of finite numbers (a scalar gives length 1)."""
+def floats(name: str, value) -> np.ndarray:
+    """``value`` as a float64 array of any shape (not checked further), or a ParameterError
+    naming ``name`` where it is not numbers (a string, a complex number, a ragged list)."""
     try:
         arr = np.asarray(value, dtype=np.float64)
     except (TypeError, ValueError):
         raise ParameterError(
-            f"{name} = {value!r} is not allowed: it must be a number or a 1-D array of numbers"
+            f"{name} = {value!r} is not allowed: it must be a number or an array of numbers"
         ) from None
+    return arr
+
+
+def times(name: str, value) -> np.ndarray:
+    """``value`` as a contiguous 1-D float64 array of finite numbers (a scalar gives length 1)."""
+    arr = floats(name, value)
     if arr.ndim == 0:
         arr = arr.reshape(1)
     if arr.ndim != 1:

@@ -9,6 +9,10 @@ any shape; the result has the same shape.
 - :func:`ellippi` -- third kind, complete Pi(n | m) or incomplete Pi(n; phi | m), any real
   n != 1 (the Cauchy principal value where the integrand has a pole).
 - :func:`cubic_roots` -- real roots of a cubic.
+
+Every rule on the arguments is the core's: a value outside what is allowed raises
+:class:`kreisel.ParameterError` naming the argument, the value and what is allowed. The
+results are finite, except the complete integrals at m = 1, where K and Pi are infinite.
 """
 
 from __future__ import annotations
@@ -16,23 +20,15 @@ from __future__ import annotations
 import numpy as np
 
 from . import _core
-from ._errors import ParameterError
-from ._validate import real
+from ._validate import floats, real
 
 
-def _apply(fn, x, *args):
-    arr = np.asarray(x, dtype=np.float64)
+def _apply(fn, x, name, *args):
+    arr = floats(name, x)
     out = fn(np.ascontiguousarray(arr.ravel()), *args)
     if isinstance(out, tuple):
         return tuple(o.reshape(arr.shape) if arr.ndim else float(o[0]) for o in out)
     return out.reshape(arr.shape) if arr.ndim else float(out[0])
-
-
-def _parameter(m, upper=1.0):
-    m = real("m", m)
-    if not 0.0 <= m <= upper:
-        raise ParameterError(f"m = {m} is not allowed: the parameter must lie in [0, {upper}]")
-    return m
 
 
 def ellipj(u, m):
@@ -41,36 +37,35 @@ def ellipj(u, m):
     The amplitude is continuous in u: am(u + 2K) = am(u) + pi. Method: arithmetic-geometric
     mean and descending Landen transformation (Abramowitz and Stegun 16.4).
     """
-    return _apply(_core.ellipj, u, _parameter(m))
+    return _apply(_core.ellipj, u, "u", real("m", m))
 
 
 def ellipk(m):
     """Complete elliptic integral of the first kind K(m), m <= 1 (infinite at m = 1)."""
-    m = real("m", m)
-    if m > 1.0:
-        raise ParameterError(f"m = {m} is not allowed: K(m) is real only for m <= 1")
-    return _core.ellipk(m)
+    return _core.ellipk(real("m", m))
 
 
 def ellipf(phi, m):
-    """Incomplete elliptic integral of the first kind F(phi | m)."""
-    return _apply(_core.ellipf, phi, real("m", m))
+    """Incomplete elliptic integral of the first kind F(phi | m); for m >= 1 only
+    ``|phi| < asin(1/sqrt(m))``, where it is real and finite."""
+    return _apply(_core.ellipf, phi, "phi", real("m", m))
 
 
 def ellippi(n, phi=None, m=None):
-    """Elliptic integral of the third kind: ``ellippi(n, m)`` complete or
-    ``ellippi(n, phi, m)`` incomplete; principal value where ``n sin^2 phi > 1``."""
+    """Elliptic integral of the third kind: ``ellippi(n, m)`` complete (m <= 1, infinite at
+    m = 1) or ``ellippi(n, phi, m)`` incomplete (phi as for :func:`ellipf`); n != 1, the
+    principal value where ``n sin^2 phi > 1``."""
     if m is None:
         phi, m = None, phi
     n, m = real("n", n), real("m", m)
-    if n == 1.0:
-        raise ParameterError("n = 1.0 is not allowed: the integral diverges at n = 1")
     if phi is None:
         return _core.ellippi(n, m)
-    return _apply(lambda p, nn, mm: _core.ellippiinc(nn, p, mm), phi, n, m)
+    return _apply(lambda p, nn, mm: _core.ellippiinc(nn, p, mm), phi, "phi", n, m)
 
 
 def cubic_roots(c0, c1, c2, c3):
-    """Real roots, ascending and with multiplicity, of ``c0 + c1 x + c2 x^2 + c3 x^3``."""
+    """Real roots, ascending and with multiplicity, of ``c0 + c1 x + c2 x^2 + c3 x^3``, for
+    finite coefficients of any size; ParameterError for the zero polynomial and where a root
+    lies beyond the range of floats (it names the leading coefficient)."""
     c = [real(f"c{i}", v) for i, v in enumerate((c0, c1, c2, c3))]
     return tuple(_core.cubic_roots(*c))

@@ -23,21 +23,34 @@ impl KreiselError {
     pub fn invalid(name: &str, value: f64, allowed: impl Into<String>) -> Self {
         KreiselError::InvalidParameter {
             name: name.to_string(),
-            value: number(value),
+            value: repr(value),
             allowed: allowed.into(),
         }
     }
 }
 
-/// A number as a message shows it: plain where that is short, else in exponent form (the
-/// plain form of 1e-300 has 300 digits).
-pub fn number(value: f64) -> String {
-    let a = value.abs();
-    if a != 0.0 && a.is_finite() && !(1e-4..1e16).contains(&a) {
-        format!("{value:e}")
-    } else {
-        format!("{value}")
+/// A float as Python's `repr` writes it (`1.0`, `2.5`, `1e-05`, `1e+300`, `5e-324`, `nan`):
+/// the shortest form that reads back to the same number, as users of the Python API see
+/// their values.
+pub fn repr(x: f64) -> String {
+    if x.is_nan() {
+        return "nan".into();
     }
+    if x.is_infinite() {
+        return if x > 0.0 { "inf" } else { "-inf" }.into();
+    }
+    let a = x.abs();
+    if a == 0.0 || (1e-4..1e16).contains(&a) {
+        let s = format!("{x}");
+        return if s.contains('.') { s } else { format!("{s}.0") };
+    }
+    let s = format!("{x:e}");
+    let (mantissa, exp) = s.split_once('e').unwrap_or((&s, "0"));
+    let (sign, digits) = match exp.strip_prefix('-') {
+        Some(d) => ('-', d),
+        None => ('+', exp),
+    };
+    format!("{mantissa}e{sign}{digits:0>2}")
 }
 
 impl fmt::Display for KreiselError {
@@ -55,6 +68,29 @@ impl fmt::Display for KreiselError {
 
 impl std::error::Error for KreiselError {}
 
+#[cfg(test)]
+mod tests {
+    use super::repr;
+
+    #[test]
+    fn values_are_written_as_python_writes_them() {
+        for (x, s) in [
+            (1.0, "1.0"),
+            (2.5, "2.5"),
+            (-0.0, "-0.0"),
+            (1e-5, "1e-05"),
+            (1e300, "1e+300"),
+            (5e-324, "5e-324"),
+            (1.5e16, "1.5e+16"),
+            (123456.789, "123456.789"),
+            (f64::NAN, "nan"),
+            (f64::NEG_INFINITY, "-inf"),
+        ] {
+            assert_eq!(repr(x), s);
+        }
+    }
+}
+
 /// Result type of the core.
 pub type Result<T> = std::result::Result<T, KreiselError>;
 
@@ -71,28 +107,85 @@ pub fn finite(name: &str, value: f64) -> Result<f64> {
     }
 }
 
-/// Checks that `value` is finite and strictly positive.
+/// The magnitudes a physical parameter of a model may have (in SI units): `[1e-100, 1e100]`,
+/// or 0 where zero is allowed. Every physical top lies far inside, and within it the products
+/// and ratios of a few parameters and rates (energies, `m g l / I1`, ...) stay far from the
+/// overflow and underflow of f64 (1e308, 1e-308): a subnormal or a 1e300 parameter would turn
+/// them into inf, 0 or NaN without a word.
+pub const PARAMETER_RANGE: (f64, f64) = (1e-100, 1e100);
+
+/// The largest magnitude of an angular rate (rad/s) or a rate-like argument: with moments
+/// of inertia in [`PARAMETER_RANGE`], energies and momenta stay finite.
+pub const RATE_MAX: f64 = 1e100;
+
+fn in_range(value: f64) -> bool {
+    (PARAMETER_RANGE.0..=PARAMETER_RANGE.1).contains(&value.abs())
+}
+
+/// Checks that `value` is a finite physical parameter > 0 within [`PARAMETER_RANGE`].
 pub fn positive(name: &str, value: f64) -> Result<f64> {
-    if value.is_finite() && value > 0.0 {
+    if value.is_finite() && value > 0.0 && in_range(value) {
         Ok(value)
     } else {
         Err(KreiselError::invalid(
             name,
             value,
-            "it must be a finite number > 0",
+            format!(
+                "it must be a finite number > 0 within [{}, {}]",
+                repr(PARAMETER_RANGE.0),
+                repr(PARAMETER_RANGE.1)
+            ),
         ))
     }
 }
 
-/// Checks that `value` is finite and not negative.
+/// Checks that `value` is a physical parameter >= 0: zero, or within [`PARAMETER_RANGE`].
 pub fn non_negative(name: &str, value: f64) -> Result<f64> {
-    if value.is_finite() && value >= 0.0 {
+    if value == 0.0 || (value.is_finite() && value > 0.0 && in_range(value)) {
+        Ok(value.abs())
+    } else {
+        Err(KreiselError::invalid(
+            name,
+            value,
+            format!(
+                "it must be 0 or a finite number within [{}, {}]",
+                repr(PARAMETER_RANGE.0),
+                repr(PARAMETER_RANGE.1)
+            ),
+        ))
+    }
+}
+
+/// Checks that `value` is a signed physical parameter: zero, or of a magnitude within
+/// [`PARAMETER_RANGE`].
+pub fn signed(name: &str, value: f64) -> Result<f64> {
+    if value == 0.0 || (value.is_finite() && in_range(value)) {
         Ok(value)
     } else {
         Err(KreiselError::invalid(
             name,
             value,
-            "it must be a finite number >= 0",
+            format!(
+                "it must be 0 or a finite number of magnitude within [{}, {}]",
+                repr(PARAMETER_RANGE.0),
+                repr(PARAMETER_RANGE.1)
+            ),
+        ))
+    }
+}
+
+/// Checks that `value` is a finite rate (rad/s) of magnitude at most [`RATE_MAX`].
+pub fn rate(name: &str, value: f64) -> Result<f64> {
+    if value.is_finite() && value.abs() <= RATE_MAX {
+        Ok(value)
+    } else {
+        Err(KreiselError::invalid(
+            name,
+            value,
+            format!(
+                "it must be a finite rate of magnitude at most {} rad/s",
+                repr(RATE_MAX)
+            ),
         ))
     }
 }

@@ -13,10 +13,37 @@ fn state(py: Python<'_>, s: StateTuple) -> PyResult<EulerState> {
     EulerState::new(s.0, s.1, s.2, s.3, s.4, s.5).py(py)
 }
 
+/// The exact solution from a state; a numerical failure names the state.
+fn solve(py: Python<'_>, top: &LagrangeTop, s: &EulerState) -> PyResult<LagrangeExact> {
+    LagrangeExact::new(top, s)
+        .map_err(|e| in_state(e, s))
+        .py(py)
+}
+
+/// A core failure, with the state it was computing from.
+fn in_state(e: kreisel_core::KreiselError, s: &EulerState) -> kreisel_core::KreiselError {
+    match e {
+        kreisel_core::KreiselError::Numerical(msg) => {
+            kreisel_core::KreiselError::Numerical(format!(
+                "the exact solution from the state (theta = {}, theta_dot = {}, phi_dot = {}, \
+                 psi_dot = {}): {msg}",
+                s.theta, s.theta_dot, s.phi_dot, s.psi_dot
+            ))
+        }
+        other => other,
+    }
+}
+
 /// Validates a state given as (theta, phi, psi, theta_dot, phi_dot, psi_dot).
 #[pyfunction]
 pub fn check_euler_state(py: Python<'_>, s: StateTuple) -> PyResult<()> {
     state(py, s).map(|_| ())
+}
+
+/// Checks an angular rate (rad/s) against the core's rule for rates.
+#[pyfunction]
+pub fn check_rate(py: Python<'_>, name: &str, value: f64) -> PyResult<f64> {
+    kreisel_core::error::rate(name, value).py(py)
 }
 
 /// The native Lagrange top (parameters only).
@@ -49,16 +76,16 @@ impl PyLagrangeTop {
         m3: f64,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let th = theta.as_slice()?;
-        let v: Vec<f64> = th
+        let v: kreisel_core::Result<Vec<f64>> = th
             .iter()
             .map(|&x| self.inner.effective_potential(x, mz, m3))
             .collect();
-        Ok(v.into_pyarray(py))
+        Ok(v.py(py)?.into_pyarray(py))
     }
 
     /// Analysis of the motion from a state: kind, turning points, period, mean rate.
     fn analyse<'py>(&self, py: Python<'py>, s: StateTuple) -> PyResult<Bound<'py, PyDict>> {
-        let ex = LagrangeExact::new(&self.inner, &state(py, s)?).py(py)?;
+        let ex = solve(py, &self.inner, &state(py, s)?)?;
         let d = PyDict::new(py);
         let (tmin, tmax) = ex.turning_points();
         d.set_item("kind", ex.kind().name())?;
@@ -83,7 +110,7 @@ impl PyLagrangeTop {
     ) -> PyResult<Vec<Bound<'py, PyArray1<f64>>>> {
         let st = state(py, s)?;
         let ts = t.as_slice()?;
-        let ex = LagrangeExact::new(&self.inner, &st).py(py)?;
+        let ex = solve(py, &self.inner, &st)?;
         // numpy's own allocation (huge pages for large arrays on Linux) spares the page
         // faults that would otherwise cost as much as the evaluation.
         let arrays: Vec<Bound<'py, PyArray1<f64>>> = (0..6)
@@ -105,6 +132,7 @@ impl PyLagrangeTop {
                     ex.eval_par_into(ts, out)
                 }
             })
+            .map_err(|e| in_state(e, &st))
             .py(py)?;
         }
         Ok(arrays)

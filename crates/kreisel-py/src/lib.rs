@@ -29,6 +29,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(columns::quaternions_from_euler, m)?)?;
     m.add_function(wrap_pyfunction!(batch::lyapunov_many, m)?)?;
     m.add_function(wrap_pyfunction!(lagrange::check_euler_state, m)?)?;
+    m.add_function(wrap_pyfunction!(lagrange::check_rate, m)?)?;
     m.add_function(wrap_pyfunction!(heavy::rigid_from_euler, m)?)?;
     m.add_function(wrap_pyfunction!(heavy::methods, m)?)?;
     m.add_function(wrap_pyfunction!(special::ellipj, m)?)?;

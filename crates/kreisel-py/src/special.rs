@@ -23,7 +23,7 @@ pub fn ellipj<'py>(
         Vec::with_capacity(n),
     );
     for &x in u {
-        let j = special::jacobi(x, m, 1.0 - m);
+        let j = special::ellipj(x, m).py(py)?;
         sn.push(j.sn);
         cn.push(j.cn);
         dn.push(j.dn);
@@ -78,6 +78,6 @@ pub fn ellippi(py: Python<'_>, n: f64, m: f64) -> PyResult<f64> {
 
 /// Real roots, ascending with multiplicity, of c0 + c1 x + c2 x^2 + c3 x^3.
 #[pyfunction]
-pub fn cubic_roots(c0: f64, c1: f64, c2: f64, c3: f64) -> Vec<f64> {
-    Poly3([c0, c1, c2, c3]).real_roots()
+pub fn cubic_roots(py: Python<'_>, c0: f64, c1: f64, c2: f64, c3: f64) -> PyResult<Vec<f64>> {
+    Poly3([c0, c1, c2, c3]).real_roots().py(py)
 }

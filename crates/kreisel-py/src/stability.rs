@@ -32,10 +32,14 @@ impl PyPlayStability {
         })
     }
 
-    /// J_R(u) on the real line at every u (NaN where D(u) <= 0).
+    /// J_R(u) at every u in [-1, 1] (NaN where D(u) <= 0; an error for u outside).
     fn j_r<'py>(&self, py: Python<'py>, u: PyReadonlyArray1<'py, f64>) -> PyResult<Arr<'py>> {
-        let v: Vec<f64> = u.as_slice()?.iter().map(|&x| self.theory.j_r(x)).collect();
-        Ok(v.into_pyarray(py))
+        let v: kreisel_core::Result<Vec<f64>> = u
+            .as_slice()?
+            .iter()
+            .map(|&x| self.theory.j_r_at(x))
+            .collect();
+        Ok(v.py(py)?.into_pyarray(py))
     }
 
     /// V(u) at fixed J at every u.

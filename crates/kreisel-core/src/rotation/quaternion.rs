@@ -58,11 +58,39 @@ impl Quat {
         (q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]).sqrt()
     }
 
-    /// This quaternion scaled to unit norm.
+    /// This quaternion scaled to unit norm. Components of any finite size: where the sum of
+    /// squares would overflow or underflow, the quaternion is first scaled by a power of two
+    /// (exact), so `[1e300, 1e300, 0, 0]` gives `[1/sqrt 2, 1/sqrt 2, 0, 0]` and
+    /// `[1e-300, 0, 0, 0]` gives `[1, 0, 0, 0]`. The zero quaternion gives NaN.
     #[inline(always)]
     pub fn normalized(self) -> Quat {
-        let n = self.norm();
-        Quat(self.0.map(|x| x / n))
+        let q = self.0;
+        let n2 = q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3];
+        if !(f64::MIN_POSITIVE..=f64::MAX).contains(&n2) {
+            return self.normalized_scaled();
+        }
+        let n = n2.sqrt();
+        Quat(q.map(|x| x / n))
+    }
+
+    #[cold]
+    fn normalized_scaled(self) -> Quat {
+        let big = self.0.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        if !(big > 0.0 && big.is_finite()) {
+            return Quat([f64::NAN; 4]);
+        }
+        // The power of two nearest below the largest component: after scaling it lies in
+        // [1, 2), and so does the norm, within a factor 2.
+        let e = ((big.to_bits() >> 52) & 0x7ff) as i32 - 1023;
+        let scaled = if e < -1000 {
+            self.0.map(|x| x * 2f64.powi(1000) * 2f64.powi(-e - 1000))
+        } else if e > 1000 {
+            self.0.map(|x| x * 2f64.powi(-1000) * 2f64.powi(1000 - e))
+        } else {
+            self.0.map(|x| x * 2f64.powi(-e))
+        };
+        let n = Quat(scaled).norm();
+        Quat(scaled.map(|x| x / n))
     }
 
     /// Rotates a body-frame vector into the space frame.
@@ -164,6 +192,30 @@ impl std::ops::Mul for Quat {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn normalisation_scales_huge_and_tiny_quaternions() {
+        let h = std::f64::consts::FRAC_1_SQRT_2;
+        let q = Quat([1e300, 1e300, 0.0, 0.0]).normalized().0;
+        assert!((q[0] - h).abs() < 2e-16 && (q[1] - h).abs() < 2e-16 && q[2] == 0.0);
+        assert_eq!(
+            Quat([1e-300, 0.0, 0.0, 0.0]).normalized().0,
+            [1.0, 0.0, 0.0, 0.0]
+        );
+        assert_eq!(
+            Quat([0.0, 5e-324, 0.0, 0.0]).normalized().0,
+            [0.0, 1.0, 0.0, 0.0]
+        );
+        let q = Quat([-3e-170, 4e-170, 0.0, 0.0]).normalized().0;
+        assert!(
+            (q[0] + 0.6).abs() < 2e-16 && (q[1] - 0.8).abs() < 2e-16,
+            "{q:?}"
+        );
+        // Ordinary quaternions: the plain formula, bit for bit.
+        let q = Quat([0.3, -0.5, 0.7, 0.2]);
+        let n = q.norm();
+        assert_eq!(q.normalized().0, q.0.map(|x| x / n));
+    }
 
     #[test]
     fn rotation_matches_matrix_and_inverse() {

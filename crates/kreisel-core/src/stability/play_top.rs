@@ -26,7 +26,7 @@
 //!   spin is a minimum iff `V'(1) < 0`, the hanging one iff `V'(-1) > 0` (the table of the
 //!   notes).
 
-use crate::error::{finite, positive, KreiselError, Result};
+use crate::error::{finite, KreiselError, Result};
 use crate::models::play_top::{PlayTop, DIM};
 use crate::rotation::{cross, Quat};
 use crate::special::cubic::Poly3;
@@ -145,8 +145,23 @@ pub struct Prediction {
 }
 
 fn check_alpha_gamma(alpha: f64, gamma: f64) -> Result<()> {
-    positive("alpha", alpha)?;
-    positive("gamma", gamma)?;
+    // Both are ratios of a top's parameters: say which, so a message about a top's
+    // classification names what the user gave (s = 0 makes alpha = 0).
+    if !(alpha.is_finite() && alpha > 0.0) {
+        return Err(KreiselError::invalid(
+            "alpha",
+            alpha,
+            "alpha = s/rho must be > 0: the classification is of tops whose centre of mass \
+             lies off the centre of the tip sphere (s > 0)",
+        ));
+    }
+    if !(gamma.is_finite() && gamma > 0.0) {
+        return Err(KreiselError::invalid(
+            "gamma",
+            gamma,
+            "gamma = A/C must be a finite number > 0",
+        ));
+    }
     Ok(())
 }
 
@@ -292,6 +307,19 @@ impl PlayStability {
         } else {
             f64::NAN
         }
+    }
+
+    /// J_R(u) for an inclination `u = cos(theta)` in [-1, 1] (an error outside, or for a
+    /// non-finite u); NaN where no regular precession exists there (D(u) <= 0).
+    pub fn j_r_at(&self, u: f64) -> Result<f64> {
+        if !(-1.0..=1.0).contains(&u) {
+            return Err(KreiselError::invalid(
+                "u",
+                u,
+                "u = cos(theta) must lie in [-1, 1]",
+            ));
+        }
+        Ok(self.j_r(u))
     }
 
     /// dJ_R/du; NaN where D(u) <= 0.

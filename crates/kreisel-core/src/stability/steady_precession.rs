@@ -6,7 +6,7 @@
 //! `omega_n^2 = (a - 2 Omega cos theta0)^2 + Omega^2 sin^2 theta0`, `a = I3 omega3 / I1`.
 //! The upright spin is stable iff `(I3 omega3)^2 > 4 I1 m g l`.
 
-use crate::error::{finite, KreiselError, Result};
+use crate::error::{rate, KreiselError, Result};
 use crate::models::lagrange::LagrangeTop;
 use crate::special::cubic::quadratic_roots;
 
@@ -27,7 +27,7 @@ fn check_theta0(theta0: f64) -> Result<f64> {
 /// none exists.
 pub fn steady_precession_rates(top: &LagrangeTop, theta0: f64, omega3: f64) -> Result<Vec<f64>> {
     check_theta0(theta0)?;
-    finite("omega3", omega3)?;
+    rate("omega3", omega3)?;
     let (i1, i3, mgl) = (top.i1(), top.i3(), top.mgl());
     let c = theta0.cos();
     let m3 = i3 * omega3;
@@ -45,17 +45,36 @@ pub fn steady_precession_rates(top: &LagrangeTop, theta0: f64, omega3: f64) -> R
             }
             return Ok(vec![]);
         }
-        return Ok(vec![mgl / m3]);
+        return Some(vec![mgl / m3])
+            .filter(|r| r[0].is_finite())
+            .ok_or_else(|| overflow(theta0, omega3));
     }
-    Ok(quadratic_roots(qa, qb, qc))
+    quadratic_roots(qa, qb, qc).ok_or_else(|| overflow(theta0, omega3))
+}
+
+/// A steady precession rate beyond the range of f64.
+fn overflow(theta0: f64, omega3: f64) -> KreiselError {
+    KreiselError::invalid(
+        "omega3",
+        omega3,
+        format!(
+            "a steady precession rate at theta0 = {theta0} with this spin exceeds the range of \
+             floating-point numbers"
+        ),
+    )
 }
 
 /// Angular frequency of small nutations about the steady precession at `theta0` with
 /// spin `omega3` and rate `rate` (which must be one of the steady rates).
-pub fn nutation_frequency(top: &LagrangeTop, theta0: f64, omega3: f64, rate: f64) -> Result<f64> {
+pub fn nutation_frequency(
+    top: &LagrangeTop,
+    theta0: f64,
+    omega3: f64,
+    precession: f64,
+) -> Result<f64> {
     check_theta0(theta0)?;
-    finite("omega3", omega3)?;
-    finite("rate", rate)?;
+    rate("omega3", omega3)?;
+    let rate = rate("rate", precession)?;
     let (i1, i3, mgl) = (top.i1(), top.i3(), top.mgl());
     let (s, c) = theta0.sin_cos();
     let m3 = i3 * omega3;

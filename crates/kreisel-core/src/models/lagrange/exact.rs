@@ -40,6 +40,14 @@ pub const SEPARATRIX_M1: f64 = 1e-13;
 /// precession: the rounding of a steady precession's rates leaves amplitudes near 1e-16.
 pub const STEADY_AMPLITUDE: f64 = 1e-11;
 
+/// A turning point whose distance to the vertical (1 - u or 1 + u) is below this fraction
+/// of the other's is taken to be at the vertical: the axis then passes within 1e-16 rad of
+/// it (relative to the nutation), and phi swings by pi within a time below the resolution
+/// of t, so the passage is a crossing (phi and psi jump by pi, in the directions of that
+/// swing) to round-off. Closer passages cannot be evaluated in floating point: the swing's
+/// width in tau would be below the spacing of floats near K.
+pub const VERTICAL_SNAP: f64 = f64::EPSILON * f64::EPSILON;
+
 /// The kinds of motion of a Lagrange top.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum MotionKind {
@@ -133,14 +141,15 @@ struct Nutation {
     /// Phi and Psi_periodic at tau = K.
     phi_k: f64,
     psi_k: f64,
-    /// Vertical passages at tau = 0 (mod 2K) and at tau = K (mod 2K).
-    cross_a: bool,
-    cross_b: bool,
+    /// Jumps of (phi, psi), in units of pi, at each vertical passage at tau = 0 (mod 2K)
+    /// and at tau = K (mod 2K); zero where the axis does not pass there.
+    jump_a: [f64; 2],
+    jump_b: [f64; 2],
     interp: Option<Piecewise<6>>,
-    /// Phi_total and Psi_total and crossings at tau0.
+    /// Phi_total and Psi_total and the jumps of (phi, psi) (units of pi) at tau0.
     phi_tot0: f64,
     psi_tot0: f64,
-    cross0: f64,
+    cross0: [f64; 2],
 }
 
 /// The exact motion of one Lagrange top from one state, ready to evaluate at any time.
@@ -196,8 +205,9 @@ impl LagrangeExact {
         } else {
             (p.root_in(-op0, 0.0), p.root_in(0.0, om0))
         };
-        let lo = turn(u0, om0, op0, dlo, db, sb, beta, a, a0);
-        let hi = turn(u0, om0, op0, dhi, db, sb, beta, a, a0);
+        let mut lo = turn(u0, om0, op0, dlo, db, sb, beta, a, a0);
+        let mut hi = turn(u0, om0, op0, dhi, db, sb, beta, a, a0);
+        let (top_jump, bottom_jump) = snap_to_vertical(&mut lo, &mut hi, &mut db, &mut sb);
         let spin_lin = (i1 / top.i3() - 1.0) * a;
 
         let mut out = LagrangeExact {
@@ -241,17 +251,30 @@ impl LagrangeExact {
             };
             let c = q.0;
             let x = 1.0 + (c[0].abs().max(c[1].abs()).max(c[2].abs())) / beta.abs();
-            let e3 = q.root_in(-x, 0.0);
             let (ea, eb) = if beta > 0.0 {
                 (ta.om, tb.om)
             } else {
                 (ta.op, tb.op)
             };
-            (
-                dab.abs() / (ea - e3),
-                (eb - e3) / (ea - e3),
-                beta.abs() * (ea - e3),
-            )
+            let e3 = if x < 1e6 {
+                q.root_in(-x, 0.0)
+            } else {
+                // beta is small against the other coefficients: the third root is far,
+                // beyond the turning points by about x, and the sum of the roots gives it
+                // without cancellation. (At the bracket's end -x the cubic's leading terms
+                // cancel to round-off, so its sign there is not resolved.)
+                -c[2] / c[3] - ea - eb
+            };
+            if e3.is_finite() {
+                (
+                    dab.abs() / (ea - e3),
+                    (eb - e3) / (ea - e3),
+                    beta.abs() * (ea - e3),
+                )
+            } else {
+                // Beyond the range of f64: m = 0 to round-off, the limit of a free top.
+                (0.0, 1.0, w4)
+            }
         };
         if m1 < SEPARATRIX_M1 {
             // On the separatrix the far turning point is the vertical itself (Mz = +-M3).
@@ -331,19 +354,19 @@ impl LagrangeExact {
             sb,
             phi_k: 0.0,
             psi_k: 0.0,
-            cross_a: ta.om == 0.0 || ta.op == 0.0,
-            cross_b: tb.om == 0.0 || tb.op == 0.0,
+            jump_a: passage(&ta, top_jump, bottom_jump),
+            jump_b: passage(&tb, top_jump, bottom_jump),
             interp: None,
             phi_tot0: 0.0,
             psi_tot0: 0.0,
-            cross0: 0.0,
+            cross0: [0.0; 2],
         };
         out.kind = if m1 == 0.0 {
             MotionKind::Asymptotic
         } else if lo.theta() - hi.theta() <= STEADY_AMPLITUDE {
             // A nutation this small is the round-off of a steady state's rates.
             MotionKind::RegularPrecession
-        } else if nut.cross_a || nut.cross_b {
+        } else if nut.crosses() {
             MotionKind::ThroughVertical
         } else {
             let (ga, gb) = (b0 - a * lo.delta, b0 - a * hi.delta);
@@ -413,8 +436,8 @@ impl LagrangeExact {
                 }
             }
             Some(n) => {
-                let crossings = n.cross_a as u8 as f64 + n.cross_b as u8 as f64;
-                (2.0 * n.phi_k + PI * crossings) / (2.0 * n.kk / n.w)
+                let jumps = n.jump_a[0] + n.jump_b[0];
+                (2.0 * n.phi_k + PI * jumps) / (2.0 * n.kk / n.w)
             }
         }
     }
@@ -461,13 +484,16 @@ impl LagrangeExact {
     fn assemble(&self, n: &Nutation, t: f64, tau: f64, red: (f64, f64), v: &Row) -> EulerState {
         let s = &self.state;
         let (j, sgn) = red;
-        let jumps = n.crossings(tau) - n.cross0;
+        let [jp, js] = n.crossings(tau);
+        let (jp, js) = (jp - n.cross0[0], js - n.cross0[1]);
         EulerState {
             theta: v[0].clamp(0.0, PI),
             theta_dot: sgn * v[1],
-            phi: s.phi + (2.0 * j * n.phi_k + sgn * v[2] - n.phi_tot0) + PI * jumps,
-            psi: s.psi + self.spin_lin * t + (2.0 * j * n.psi_k + sgn * v[3] - n.psi_tot0)
-                - PI * jumps,
+            phi: s.phi + (2.0 * j * n.phi_k + sgn * v[2] - n.phi_tot0) + PI * jp,
+            psi: s.psi
+                + self.spin_lin * t
+                + (2.0 * j * n.psi_k + sgn * v[3] - n.psi_tot0)
+                + PI * js,
             phi_dot: v[4],
             psi_dot: v[5],
         }
@@ -501,12 +527,12 @@ impl LagrangeExact {
             let interp = n.interp.as_ref().unwrap();
             let s = &self.state;
             let (p2, kk) = (2.0 * n.kk, n.kk);
-            let phi_c = s.phi - n.phi_tot0 - PI * n.cross0;
-            let psi_c = s.psi - n.psi_tot0 + PI * n.cross0;
+            let phi_c = s.phi - n.phi_tot0 - PI * n.cross0[0];
+            let psi_c = s.psi - n.psi_tot0 - PI * n.cross0[1];
             let mut rho = [0.0f64; B];
             let mut jj = [0.0f64; B];
             let mut sg = [0.0f64; B];
-            let mut cr = [0.0f64; B];
+            let mut cr = [[0.0f64; 2]; B];
             let mut v = [[0.0f64; 6]; B];
             for (start, tb) in (0..t.len()).step_by(B).zip(t.chunks(B)) {
                 let m = tb.len();
@@ -518,7 +544,7 @@ impl LagrangeExact {
                     sg[k] = if r < 0.0 { -1.0 } else { 1.0 };
                     rho[k] = r.abs().min(kk);
                 }
-                if n.cross_a || n.cross_b {
+                if n.crosses() {
                     for k in 0..m {
                         cr[k] = n.crossings(n.w * tb[k] + n.tau0);
                     }
@@ -542,11 +568,12 @@ impl LagrangeExact {
                 );
                 for k in 0..m {
                     let (j, g) = (jj[k], sg[k]);
-                    let jump = PI * cr[k];
+                    let [jp, js] = cr[k];
                     th[k] = v[k][0].clamp(0.0, PI);
                     thd[k] = g * v[k][1];
-                    ph[k] = phi_c + 2.0 * j * n.phi_k + g * v[k][2] + jump;
-                    ps[k] = psi_c + self.spin_lin * tb[k] + 2.0 * j * n.psi_k + g * v[k][3] - jump;
+                    ph[k] = phi_c + 2.0 * j * n.phi_k + g * v[k][2] + PI * jp;
+                    ps[k] =
+                        psi_c + self.spin_lin * tb[k] + 2.0 * j * n.psi_k + g * v[k][3] + PI * js;
                     phd[k] = v[k][4];
                     psd[k] = v[k][5];
                 }
@@ -589,27 +616,40 @@ impl Nutation {
         (j, sgn, r.abs().min(self.kk))
     }
 
-    /// Number of vertical passages counted from tau = 0 (a step function of tau).
+    /// Whether the axis passes through the vertical.
+    fn crosses(&self) -> bool {
+        self.jump_a != [0.0; 2] || self.jump_b != [0.0; 2]
+    }
+
+    /// The jumps of (phi, psi), in units of pi, of the vertical passages counted from
+    /// tau = 0 (step functions of tau).
     #[inline]
-    fn crossings(&self, tau: f64) -> f64 {
+    fn crossings(&self, tau: f64) -> [f64; 2] {
         if self.kk.is_infinite() {
-            return 0.0;
+            return [0.0; 2];
         }
         let p = 2.0 * self.kk;
-        let mut c = 0.0;
-        if self.cross_a {
-            c += floor_fast(tau / p);
+        let mut c = [0.0; 2];
+        if self.jump_a != [0.0; 2] {
+            let k = floor_fast(tau / p);
+            c = [c[0] + k * self.jump_a[0], c[1] + k * self.jump_a[1]];
         }
-        if self.cross_b {
-            c += floor_fast((tau - self.kk) / p);
+        if self.jump_b != [0.0; 2] {
+            let k = floor_fast((tau - self.kk) / p);
+            c = [c[0] + k * self.jump_b[0], c[1] + k * self.jump_b[1]];
         }
         c
     }
 
     /// Direct evaluation at rho in [0, K] (any rho >= 0 on the separatrix).
     fn row(&self, rho: f64, spin_lin: f64) -> Result<Row> {
-        let jf = jacobi(rho, self.m, self.m1);
-        let (sn, cn, dn) = (jf.sn.max(0.0), jf.cn.max(0.0), jf.dn);
+        let (sn, cn, dn) = if rho >= self.kk {
+            // The turning point itself, exactly (the complete integrals).
+            (1.0, 0.0, self.m1.sqrt())
+        } else {
+            let jf = jacobi(rho, self.m, self.m1);
+            (jf.sn.max(0.0), jf.cn.max(0.0), jf.dn)
+        };
         let (s2, c2) = (sn * sn, cn * cn);
         let (ta, tb) = (&self.a_, &self.b_);
         let u = ta.u * c2 + tb.u * s2;
@@ -646,7 +686,7 @@ impl Nutation {
             if self.m1 == 0.0 {
                 Ok(pi_separatrix(rho, sn, n, n1))
             } else {
-                pi_of_tau(rho, sn, cn, dn, n, n1)
+                pi_of_tau(rho.min(self.kk), [sn, cn, dn], n, n1, self.m, self.m1)
             }
         };
         let ip = if self.cp == 0.0 {
@@ -736,6 +776,57 @@ fn normalise(s: &EulerState) -> EulerState {
         }
     } else {
         *s
+    }
+}
+
+/// Puts a turning point that lies closer to a vertical than [`VERTICAL_SNAP`] allows onto
+/// it, with `b - a` (top) or `b + a` (bottom) zero as there. Returns the jumps of (phi, psi),
+/// in units of pi, at a passage through the top and the bottom vertical: those of the swing
+/// the near passage makes (phi by the sign of `b -+ a`, psi opposite at the top and along at
+/// the bottom), and +1, -1 for an exact passage.
+fn snap_to_vertical(
+    lo: &mut Turn,
+    hi: &mut Turn,
+    db: &mut f64,
+    sb: &mut f64,
+) -> ([f64; 2], [f64; 2]) {
+    let sign = |x: f64| if x < 0.0 { -1.0 } else { 1.0 };
+    let top = [sign(*db), -sign(*db)];
+    let bottom = if *sb == 0.0 {
+        [1.0, -1.0]
+    } else {
+        [sign(*sb), sign(*sb)]
+    };
+    if hi.om <= VERTICAL_SNAP * lo.om {
+        *hi = Turn {
+            u: 1.0,
+            om: 0.0,
+            op: 2.0,
+            delta: hi.delta,
+        };
+        *db = 0.0;
+    }
+    if lo.op <= VERTICAL_SNAP * hi.op {
+        *lo = Turn {
+            u: -1.0,
+            om: 2.0,
+            op: 0.0,
+            delta: lo.delta,
+        };
+        *sb = 0.0;
+    }
+    (top, bottom)
+}
+
+/// The jumps of (phi, psi) at a passage of the axis through the vertical at turning point
+/// `t`, or zero where `t` is not at a vertical.
+fn passage(t: &Turn, top: [f64; 2], bottom: [f64; 2]) -> [f64; 2] {
+    if t.om == 0.0 {
+        top
+    } else if t.op == 0.0 {
+        bottom
+    } else {
+        [0.0; 2]
     }
 }
 

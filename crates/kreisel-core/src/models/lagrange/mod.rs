@@ -11,7 +11,9 @@ mod exact;
 pub use columns::LagrangeColumns;
 pub use exact::{LagrangeExact, MotionKind};
 
-use crate::error::{finite, non_negative, positive, KreiselError, Result};
+use crate::error::{
+    finite, non_negative, positive, rate, repr, signed, KreiselError, Result, RATE_MAX,
+};
 
 /// Euler angles (z-x-z) and their rates.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -31,7 +33,8 @@ pub struct EulerState {
 }
 
 impl EulerState {
-    /// A validated state: every value finite, theta in [0, pi].
+    /// A validated state: angles finite, theta in [0, pi], rates of magnitude at most
+    /// [`RATE_MAX`](crate::error::RATE_MAX).
     pub fn new(
         theta: f64,
         phi: f64,
@@ -40,14 +43,14 @@ impl EulerState {
         phi_dot: f64,
         psi_dot: f64,
     ) -> Result<Self> {
+        finite("phi", phi)?;
+        finite("psi", psi)?;
         for (n, v) in [
-            ("phi", phi),
-            ("psi", psi),
             ("theta_dot", theta_dot),
             ("phi_dot", phi_dot),
             ("psi_dot", psi_dot),
         ] {
-            finite(n, v)?;
+            rate(n, v)?;
         }
         if !(theta.is_finite() && (0.0..=std::f64::consts::PI).contains(&theta)) {
             return Err(KreiselError::invalid(
@@ -93,11 +96,13 @@ impl LagrangeTop {
     ///
     /// Rejects what no rigid body can be: the principal moments about the pivot obey the
     /// triangle inequality `I3 <= 2 I1`, and by the parallel-axis theorem `I1 >= m l^2`.
+    /// Every parameter lies in [`PARAMETER_RANGE`](crate::error::PARAMETER_RANGE) (`l` and
+    /// `g` may also be 0).
     pub fn new(i1: f64, i3: f64, m: f64, l: f64, g: f64) -> Result<Self> {
         positive("I1", i1)?;
         positive("I3", i3)?;
         positive("m", m)?;
-        finite("l", l)?;
+        signed("l", l)?;
         non_negative("g", g)?;
         if i3 > 2.0 * i1 {
             return Err(KreiselError::invalid(
@@ -168,20 +173,53 @@ impl LagrangeTop {
     ///
     /// (The seed's "full" form subtracts `M3^2/(2 I1)` as well; that term does not belong:
     /// the kinetic energy of the spin is `M3^2/(2 I3)`.) Infinite at theta = 0, pi unless
-    /// Mz = +-M3 there, where the limit is taken.
-    pub fn effective_potential(&self, theta: f64, mz: f64, m3: f64) -> f64 {
+    /// Mz = +-M3 there, where the limit is taken; next to them it is +inf where it exceeds
+    /// the range of f64. Never NaN: `theta` must be finite, and `M3` and `Mz` those of
+    /// rates within [`RATE_MAX`](crate::error::RATE_MAX) (`|M3| <= I3 RATE_MAX`,
+    /// `|Mz| <= (I1 + I3) RATE_MAX`).
+    pub fn effective_potential(&self, theta: f64, mz: f64, m3: f64) -> Result<f64> {
+        self.check_momenta(mz, m3)?;
+        finite("theta", theta)?;
         let (st, ct) = theta.sin_cos();
         let num = mz - m3 * ct;
-        let centrifugal = if st == 0.0 {
-            if num == 0.0 {
-                0.0
-            } else {
-                f64::INFINITY
-            }
+        let centrifugal = if num == 0.0 {
+            0.0
+        } else if st == 0.0 {
+            f64::INFINITY
         } else {
-            num * num / (2.0 * self.i1 * st * st)
+            // In this order no intermediate overflows while the value itself is finite.
+            (num / (2.0 * self.i1 * st)) * (num / st)
         };
-        self.mgl() * ct + centrifugal + m3 * m3 / (2.0 * self.i3)
+        Ok(self.mgl() * ct + centrifugal + (m3 / (2.0 * self.i3)) * m3)
+    }
+
+    /// Checks the momenta given to [`LagrangeTop::effective_potential`].
+    fn check_momenta(&self, mz: f64, m3: f64) -> Result<()> {
+        let m3_max = self.i3 * RATE_MAX;
+        if !(m3.is_finite() && m3.abs() <= m3_max) {
+            return Err(KreiselError::invalid(
+                "M3",
+                m3,
+                format!(
+                    "it must be finite with |M3| <= I3 * {} rad/s = {}",
+                    repr(RATE_MAX),
+                    repr(m3_max)
+                ),
+            ));
+        }
+        let mz_max = (self.i1 + self.i3) * RATE_MAX;
+        if !(mz.is_finite() && mz.abs() <= mz_max) {
+            return Err(KreiselError::invalid(
+                "Mz",
+                mz,
+                format!(
+                    "it must be finite with |Mz| <= (I1 + I3) * {} rad/s = {}",
+                    repr(RATE_MAX),
+                    repr(mz_max)
+                ),
+            ));
+        }
+        Ok(())
     }
 }
 
@@ -194,7 +232,7 @@ mod tests {
         let top = LagrangeTop::new(1.3, 0.7, 2.0, 0.4, 9.81).unwrap();
         let s = EulerState::new(0.8, 0.1, 0.2, -0.4, 1.1, 17.0).unwrap();
         let inv = top.invariants(&s);
-        let v = top.effective_potential(s.theta, inv.mz, inv.m3);
+        let v = top.effective_potential(s.theta, inv.mz, inv.m3).unwrap();
         let e = 0.5 * top.i1() * s.theta_dot * s.theta_dot + v;
         assert!((e - inv.energy).abs() < 1e-13 * inv.energy.abs());
     }

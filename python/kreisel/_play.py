@@ -7,7 +7,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import _atlas, _core
-from ._errors import ParameterError
+from ._errors import ParameterError, ParameterTypeError
 from ._heavy import _vector
 from ._validate import real
 
@@ -262,7 +262,7 @@ class PlayTop:
 
     def _check(self, state):
         if not isinstance(state, PlayState):
-            raise TypeError(
+            raise ParameterTypeError(
                 f"state must be a PlayState (from pt.state(...)), not {type(state).__name__}"
             )
         return state._packed()

@@ -8,7 +8,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import _core
-from ._errors import ParameterError
+from ._errors import ParameterError, ParameterTypeError
 from ._heavy import RigidState
 from ._trajectory import Deferred, Trajectory
 from ._validate import real, times
@@ -117,7 +117,7 @@ def native_model(model, name="model"):
     """The native model of a top and the function that gives its native states."""
     to_native = getattr(model, "_native_state", None)
     if to_native is None:
-        raise TypeError(
+        raise ParameterTypeError(
             f"{name} must be a HeavyTop, LagrangeTop or PlayTop, not {type(model).__name__}"
         )
     return model._native_model(), to_native

@@ -1,9 +1,6 @@
-"""Defects of the simulation stack that the fuzz campaign finds, each as a minimal reproducer.
-
-The stack (simulate, simulate_many, the integrators, the play top's model and bindings) is
-being rewritten by another developer; these are expected failures (not strict) until then,
-so that each is seen fixed the day it is. Each runs in a child process with a time limit:
-some hang, some panic.
+"""Defects of the simulation stack that the fuzz campaign found (issue 19), each as its
+minimal reproducer, fixed by the one-stack rewrite. Each runs in a child process with a time
+limit: before the fix some hung, some panicked.
 """
 
 from __future__ import annotations
@@ -40,10 +37,6 @@ def clean(result: str) -> bool:
     return result == "ok" or result.startswith("error: KreiselError:")
 
 
-XFAIL = pytest.mark.xfail(strict=False, reason="simulation stack: see the docstring")
-
-
-@XFAIL
 def test_item2_coulomb_drop_with_restitution_zero_finishes():
     """Issue 19 item 2: a dropped Coulomb top with restitution 0 never gets past
     touchdown (restitution 0.5 or Viscous finish in 0.1 s)."""
@@ -58,7 +51,6 @@ def test_item2_coulomb_drop_with_restitution_zero_finishes():
     assert clean(r), r
 
 
-@XFAIL
 @pytest.mark.parametrize("method", ["rk4", "splitting", "verlet", "midpoint", "gauss4"])
 def test_item3_fixed_steps_of_1e300_are_refused_not_run(method):
     """Issue 19 item 3: a fixed-step run with dt = 1e-300 never returns; the step count
@@ -70,7 +62,6 @@ def test_item3_fixed_steps_of_1e300_are_refused_not_run(method):
     assert clean(r), r
 
 
-@XFAIL
 @pytest.mark.parametrize("event", ["rest()", "inversion(0.9)"])
 def test_item5_play_top_events_on_a_pivot_top_are_errors_not_panics(event):
     """Issue 19 item 5 (found again by the campaign on heavy tops): a play-top event on a
@@ -83,7 +74,6 @@ def test_item5_play_top_events_on_a_pivot_top_are_errors_not_panics(event):
     assert clean(r), r
 
 
-@XFAIL
 @pytest.mark.parametrize("kind", ["heavy", "play"])
 def test_item6_empty_output_times_give_empty_columns_or_an_error(kind):
     """Issue 19 item 6: t_eval=[] lets a heavy-top run succeed and then reading a column
@@ -105,7 +95,6 @@ def test_item6_empty_output_times_give_empty_columns_or_an_error(kind):
     assert clean(r), r
 
 
-@XFAIL
 def test_kovalevskaya_integral_of_a_tiny_centre_of_mass_is_finite():
     """Issue 19 item 9 (models/heavy_top.rs): r = sqrt(c1^2 + c2^2) underflows for
     |com| = 1e-200 and the Kovalevskaya integral is NaN (hypot would keep it)."""
@@ -118,7 +107,6 @@ def test_kovalevskaya_integral_of_a_tiny_centre_of_mass_is_finite():
     assert r == "ok", r
 
 
-@XFAIL
 def test_play_state_with_huge_velocity_is_an_error_not_an_inf_energy():
     """models/play_top.rs: vx and vy are only checked finite, so a state with vx = 1e300 has
     an infinite energy (PlayTop.energy) without a word; the rule for rates (at most 1e100,
@@ -132,7 +120,6 @@ def test_play_state_with_huge_velocity_is_an_error_not_an_inf_energy():
     assert clean(r), r
 
 
-@XFAIL
 def test_wrong_state_type_for_play_and_simulate_is_a_kreisel_error():
     """_play.py and _simulate.py raise a bare TypeError for a state of the wrong type; the
     rest of kreisel raises kreisel._errors.ParameterTypeError (a ParameterError that is

@@ -68,29 +68,6 @@ impl fmt::Display for KreiselError {
 
 impl std::error::Error for KreiselError {}
 
-#[cfg(test)]
-mod tests {
-    use super::repr;
-
-    #[test]
-    fn values_are_written_as_python_writes_them() {
-        for (x, s) in [
-            (1.0, "1.0"),
-            (2.5, "2.5"),
-            (-0.0, "-0.0"),
-            (1e-5, "1e-05"),
-            (1e300, "1e+300"),
-            (5e-324, "5e-324"),
-            (1.5e16, "1.5e+16"),
-            (123456.789, "123456.789"),
-            (f64::NAN, "nan"),
-            (f64::NEG_INFINITY, "-inf"),
-        ] {
-            assert_eq!(repr(x), s);
-        }
-    }
-}
-
 /// Result type of the core.
 pub type Result<T> = std::result::Result<T, KreiselError>;
 
@@ -187,5 +164,28 @@ pub fn rate(name: &str, value: f64) -> Result<f64> {
                 repr(RATE_MAX)
             ),
         ))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::repr;
+
+    #[test]
+    fn values_are_written_as_python_writes_them() {
+        for (x, s) in [
+            (1.0, "1.0"),
+            (2.5, "2.5"),
+            (-0.0, "-0.0"),
+            (1e-5, "1e-05"),
+            (1e300, "1e+300"),
+            (5e-324, "5e-324"),
+            (1.5e16, "1.5e+16"),
+            (123456.789, "123456.789"),
+            (f64::NAN, "nan"),
+            (f64::NEG_INFINITY, "-inf"),
+        ] {
+            assert_eq!(repr(x), s);
+        }
     }
 }

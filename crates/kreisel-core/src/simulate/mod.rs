@@ -450,6 +450,60 @@ pub fn check<M: Model>(model: &M, settings: &Settings, user_fns: usize) -> Resul
     Ok(info)
 }
 
+/// How often (in calls of `keep_going`, once per accepted step of an adaptive method) a run
+/// measures its pace.
+const PACE_EVERY: u64 = 1 << 16;
+
+/// Watches the pace of a run: a run whose steps so far, extrapolated to `t_end`, come to
+/// more than ten times [`MAX_STEPS`] stops at once (a t_end of 1e300 s would otherwise take
+/// 10^8 steps to fail), and says so in an error naming `t_end`.
+struct Pace<'k> {
+    inner: &'k mut dyn FnMut(f64) -> bool,
+    calls: u64,
+    t_end: f64,
+    too_long: Option<(u64, f64)>,
+}
+
+impl<'k> Pace<'k> {
+    fn new(inner: &'k mut dyn FnMut(f64) -> bool, t_end: f64) -> Self {
+        Pace {
+            inner,
+            calls: 0,
+            t_end,
+            too_long: None,
+        }
+    }
+
+    fn keep_going(&mut self, t: f64) -> bool {
+        self.calls += 1;
+        if self.calls % PACE_EVERY == 0 && t > 0.0 {
+            let projected = self.calls as f64 * (self.t_end / t);
+            if projected > 10.0 * MAX_STEPS as f64 {
+                self.too_long = Some((self.calls, projected));
+                return false;
+            }
+        }
+        (self.inner)(t)
+    }
+
+    /// The error of a run stopped for its pace, if it was.
+    fn check(&self) -> Result<()> {
+        match self.too_long {
+            None => Ok(()),
+            Some((n, projected)) => Err(KreiselError::invalid(
+                "t_end",
+                self.t_end,
+                format!(
+                    "at the pace of its first {n} steps this run would take about {:.1e} \
+                     steps, more than the {MAX_STEPS} a run may take: give a shorter t_end \
+                     (or looser tolerances)",
+                    projected
+                ),
+            )),
+        }
+    }
+}
+
 /// Simulates `model` from `s0`: every row kept.
 pub fn simulate<M: Model>(
     model: &M,
@@ -460,11 +514,23 @@ pub fn simulate<M: Model>(
 ) -> Result<Solution<M::Row>> {
     check(model, settings, user.len())?;
     let (mut t, mut rows) = (Vec::new(), Vec::new());
-    let info = model.run(s0, settings, user, keep_going, &mut |ti, r| {
-        t.push(ti);
-        rows.push(*r);
-    })?;
-    Ok(Solution { t, rows, info })
+    let mut pace = Pace::new(keep_going, settings.t_end);
+    let info = model.run(
+        s0,
+        settings,
+        user,
+        &mut |t| pace.keep_going(t),
+        &mut |ti, r| {
+            t.push(ti);
+            rows.push(*r);
+        },
+    );
+    pace.check()?;
+    Ok(Solution {
+        t,
+        rows,
+        info: info?,
+    })
 }
 
 /// Simulates `model` from `s0` and summarises the run as it goes (no rows kept).
@@ -480,10 +546,17 @@ pub(crate) fn run_summary<M: Model>(
     settings: &Settings,
 ) -> Result<M::Summary> {
     let mut acc = model.summary(s0, settings);
-    let info = model.run(s0, settings, &mut [], &mut |_| true, &mut |t, r| {
-        acc.push(t, r)
-    })?;
-    Ok(acc.finish(&info))
+    let mut go = |_| true;
+    let mut pace = Pace::new(&mut go, settings.t_end);
+    let info = model.run(
+        s0,
+        settings,
+        &mut [],
+        &mut |t| pace.keep_going(t),
+        &mut |t, r| acc.push(t, r),
+    );
+    pace.check()?;
+    Ok(acc.finish(&info?))
 }
 
 /// The Euler angles phi and psi of a run's rows made continuous: each the representative

@@ -22,7 +22,7 @@ pub mod simulate;
 pub mod splitting;
 pub mod verlet;
 
-use crate::error::{finite, non_negative, positive, KreiselError, Result};
+use crate::error::{finite, non_negative, positive, rate, KreiselError, Result};
 use crate::models::lagrange::LagrangeTop;
 use crate::rotation::{cross, dot, Quat};
 
@@ -67,10 +67,11 @@ impl RigidState {
             finite(&format!("q[{i}]"), x)?;
         }
         for (i, &x) in omega.iter().enumerate() {
-            finite(&format!("omega[{i}]"), x)?;
+            rate(&format!("omega[{i}]"), x)?;
         }
-        let n = Quat(q).norm();
-        if n.is_nan() || n <= 1e-150 {
+        // Any finite non-zero quaternion: `normalized` scales where the squares over- or
+        // underflow.
+        if q.iter().all(|&x| x == 0.0) {
             return Err(KreiselError::InvalidParameter {
                 name: "q".into(),
                 value: format!("{q:?}"),
@@ -258,7 +259,8 @@ impl HeavyTop {
         if self.kind != TopKind::Kovalevskaya {
             return None;
         }
-        let r = (self.com[0] * self.com[0] + self.com[1] * self.com[1]).sqrt();
+        // hypot: the squares of a centre of mass of 1e-200 m would underflow to 0
+        let r = self.com[0].hypot(self.com[1]);
         let (ca, sa) = (self.com[0] / r, self.com[1] / r);
         let turn = |v: [f64; 3]| [ca * v[0] + sa * v[1], -sa * v[0] + ca * v[1]];
         let w = turn(s.omega);

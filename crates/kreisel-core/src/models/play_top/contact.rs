@@ -132,8 +132,8 @@ impl PlayTop {
 
     /// Carries out `switch` at the located state `y`: the new phase, and `y` after the
     /// impact (touchdown) or the sticking impulse (slip to roll), put on the new mode's
-    /// constraint.
-    pub fn switch(&self, switch: Switch, phase: &Phase, y: &mut [f64; DIM]) -> Phase {
+    /// constraint. `rtol` is the integration's (it sets the [`PlayTop::slip_tolerance`]).
+    pub fn switch(&self, switch: Switch, phase: &Phase, y: &mut [f64; DIM], rtol: f64) -> Phase {
         let coulomb = matches!(self.friction, Friction::Coulomb { .. });
         let Phase {
             mut mode,
@@ -206,6 +206,19 @@ impl PlayTop {
                     // no normal speed, so the flight's length is not known in advance.
                     mode = Mode::Flight;
                     hop = f64::INFINITY;
+                }
+                if mode == Mode::Slip && coulomb {
+                    // An impact that leaves a slip below the slip tolerance (round-off of an
+                    // impulse that did not quite stick) would start a slip phase whose
+                    // slip_to_roll event can never fire (it watches the speed falling
+                    // through the tolerance): Coulomb friction then chatters about zero slip
+                    // in ever smaller steps. Such a contact rolls, if rolling can hold it.
+                    let k = self.kin(y);
+                    let sp = (k.v_t[0] * k.v_t[0] + k.v_t[1] * k.v_t[1]).sqrt();
+                    if sp <= self.slip_tolerance(y, rtol) && self.roll_admissible(y).0 {
+                        *y = self.stick(y);
+                        mode = Mode::Roll;
+                    }
                 }
                 if mode != Mode::Flight {
                     let k = self.kin(y);

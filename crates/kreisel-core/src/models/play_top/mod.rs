@@ -21,7 +21,9 @@
 pub mod contact;
 pub mod simulate;
 
-use crate::error::{finite, non_negative, positive, KreiselError, Result};
+use crate::error::{
+    finite, non_negative, positive, rate, repr, KreiselError, Result, PARAMETER_RANGE, RATE_MAX,
+};
 use crate::rotation::{cross, dot, Quat};
 
 /// Length of the play-top state vector.
@@ -658,8 +660,28 @@ impl PlayTop {
         vy: f64,
         height: Option<f64>,
     ) -> Result<[f64; DIM]> {
-        finite("vx", vx)?;
-        finite("vy", vy)?;
+        for (name, v) in [("vx", vx), ("vy", vy)] {
+            if !(v.is_finite() && v.abs() <= RATE_MAX) {
+                return Err(KreiselError::invalid(
+                    name,
+                    v,
+                    format!(
+                        "it must be a finite speed of magnitude at most {} m/s",
+                        repr(RATE_MAX)
+                    ),
+                ));
+            }
+        }
+        for (i, &w) in omega.iter().enumerate() {
+            rate(&format!("omega[{i}]"), w)?;
+        }
+        if !q.0.iter().all(|x| x.is_finite()) || q.0.iter().all(|&x| x == 0.0) {
+            return Err(KreiselError::InvalidParameter {
+                name: "q".into(),
+                value: format!("{:?}", q.0),
+                allowed: "a quaternion must be finite and non-zero (it is normalised)".into(),
+            });
+        }
         let q = q.normalized();
         let mut y = [0.0; DIM];
         y[..4].copy_from_slice(&q.0);
@@ -674,12 +696,12 @@ impl PlayTop {
                 y[12] = self.s * cross(g, omega)[2];
             }
             Some(h) => {
-                if !(h.is_finite() && h >= 0.0) {
+                if !(h.is_finite() && (0.0..=PARAMETER_RANGE.1).contains(&h)) {
                     return Err(KreiselError::invalid(
                         "height",
                         h,
-                        "the gap between the tip and the floor must be >= 0 (a top cannot \
-                         start below the floor)",
+                        "the gap between the tip and the floor must lie in [0, 1e+100] m (a top \
+                         cannot start below the floor)",
                     ));
                 }
                 y[9] = h + self.rho + self.s * u;

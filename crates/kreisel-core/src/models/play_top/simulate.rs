@@ -204,7 +204,7 @@ impl Model for PlayTop {
             let Some(switch) = reason.filter(|_| !stopped && t < t_end) else {
                 break;
             };
-            phase = top.switch(switch, &phase, &mut y);
+            phase = top.switch(switch, &phase, &mut y, settings.rtol);
             // The state after the switch at the same time (impacts make it jump).
             if settings.t_eval.is_none() {
                 sink(

@@ -341,8 +341,6 @@ PLAY = '[top]\nkind = "play"\nm = 0.02\nA = 5e-6\nC = 7e-6\ns = 0.001\n'
 )
 @pytest.mark.parametrize("command", ["run", "sweep"])
 def test_malformed_files_end_with_exit_2_and_one_line(tmp_path, capsys, text, field, command):
-    if command == "sweep" and field == "rho = 1e-320":
-        pytest.skip("issue 19 item 13 (in _sweep): 'nothing is swept' is reported first")
     path = tmp_path / "bad.toml"
     path.write_text(text)
     args = [command, str(path), "--out" if command == "run" else "--store", str(tmp_path / "o")]

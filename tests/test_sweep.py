@@ -606,3 +606,30 @@ def test_failed_runs_store_the_same_steps_wherever_they_failed(tmp_path):
     assert steps[1, 0] == -1 and status[1, 0] == 2  # the core: verlet needs I1 == I2
     errors = json.loads(ds.attrs["run_errors"])
     assert "verlet" in errors["1,0"] and "theta" in errors["0,1"] and "theta" in errors["1,1"]
+
+
+@pytest.mark.parametrize(
+    ("section", "table"),
+    [
+        ("grid", {"psi_dot": {"start": 1.0, "stop": 2.0, "num": 10**12}}),
+        ("random", {"n": 10**12, "psi_dot": {"low": 1.0, "high": 2.0}}),
+    ],
+)
+def test_a_sweep_too_large_to_hold_is_refused_before_any_allocation(tmp_path, section, table):
+    """Issue 19 item 11: [grid] num = 1e12 used to allocate 7 TiB; the cap is checked on
+    each axis before its values are made."""
+    tables = play_spec(**{section: table})
+    start = time.perf_counter()
+    with pytest.raises(kreisel.ParameterError, match=r"at most 100000000 runs"):
+        kreisel.sweep(tables, tmp_path / "big.zarr", progress=False)
+    assert time.perf_counter() - start < 5.0
+    assert not (tmp_path / "big.zarr").exists()
+
+
+def test_a_wrong_field_is_reported_before_nothing_is_swept(tmp_path):
+    """Issue 19 item 13: the field comes first."""
+    tables = play_spec()
+    tables.pop("grid", None)
+    tables["top"].update(s=0.006, rho=1e-320)
+    with pytest.raises(kreisel.ParameterError, match=r"rho = 1e-320"):
+        kreisel.sweep(tables, tmp_path / "x.zarr", progress=False)

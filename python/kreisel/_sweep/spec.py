@@ -124,6 +124,10 @@ class SweepSpec:
                 f"{head}{sorted(both)[0]} is swept in both [grid] and [random]: choose one"
             )
         if not grid and not random:
+            # a field that is wrong is the first thing to say (issue 19, item 13)
+            if all(k in top for k in _config.REQUIRED[kind]):
+                model = _config._model(kind, dict(top), f"{head}[top] ")
+                _config._state(kind, model, dict(state), f"{head}[state] ")
             raise ParameterError(
                 f"{head}nothing is swept: give [grid] values or [random] samples of at least "
                 f"one of {', '.join(swept_names)}"
@@ -413,6 +417,11 @@ def _grid(table: dict, allowed: tuple, where: str) -> dict:
                 raise ParameterError(
                     f"{where}{name}.num = {num!r} is not allowed: it must be a whole number >= 1"
                 )
+            if num > MAX_RUNS:
+                raise ParameterError(
+                    f"{where}{name}.num = {num!r} is not allowed: a sweep has at most "
+                    f"{MAX_RUNS} runs"
+                )
             scale = spec.get("scale", "linear")
             if scale == "log":
                 if not (a > 0 and b > 0):
@@ -453,6 +462,10 @@ def _random(table: dict, allowed: tuple, where: str) -> tuple:
     if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
         raise ParameterError(
             f"{where}n = {n!r} is not allowed: give the number of samples, a whole number >= 1"
+        )
+    if n > MAX_RUNS:
+        raise ParameterError(
+            f"{where}n = {n!r} is not allowed: a sweep has at most {MAX_RUNS} runs"
         )
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
         raise ParameterError(

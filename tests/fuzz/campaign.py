@@ -658,6 +658,7 @@ DOCUMENTED_NONFINITE = {
     # K(1) and Pi(n | 1) are infinite (the integrals diverge; documented)
     ("special.ellipk", ""): "inf at m = 1",
     ("special.ellippi", ""): "+-inf at m = 1",
+    ("special.ellippi(phi)", ""): "+-inf at m = 1 without phi (the complete integral)",
     # Veff is +inf at the verticals unless Mz = +-M3, and overflows to +inf next to them
     ("LagrangeTop.effective_potential", ""): "+inf where sin(theta) = 0 (or it overflows)",
     # the period of a separatrix motion, and of small nutations about an unstable steady one

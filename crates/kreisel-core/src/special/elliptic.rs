@@ -138,6 +138,22 @@ pub fn ellipj(u: f64, m: f64) -> Result<super::Jacobi> {
             "the parameter must lie in [0, 1]",
         ));
     }
+    if m > 0.0 && m < 1.0 {
+        // The functions are periodic in 4K; beyond 2^52 half periods u carries no digit of
+        // its place within the period (and the reduction's product would overflow).
+        let limit = 2f64.powi(52) * 2.0 * ellipk_m1(1.0 - m);
+        if u.abs() > limit {
+            return Err(KreiselError::invalid(
+                "u",
+                u,
+                format!(
+                    "|u| must be at most 2^53 K(m) = {}: beyond, u keeps no digit of its \
+                     place within the period 4K(m)",
+                    crate::error::repr(limit)
+                ),
+            ));
+        }
+    }
     Ok(super::jacobi(u, m, 1.0 - m))
 }
 

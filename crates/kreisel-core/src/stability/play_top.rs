@@ -527,6 +527,17 @@ impl PlayStability {
             out.push(self.motion(StationaryKind::Precession, j, u, self.precession_stable(u)));
         }
         out.push(self.motion(StationaryKind::Upright, j, 1.0, self.upright_stable(j)));
+        if out
+            .iter()
+            .any(|m| !(m.energy.is_finite() && m.omega.is_finite() && m.omega3.is_finite()))
+        {
+            return Err(KreiselError::invalid(
+                "J",
+                j,
+                "the stationary motions at this Jellett integral have rates or energies \
+                 beyond the floats (J^2 / (C rho^2) overflows): give a smaller |J|",
+            ));
+        }
         Ok(out)
     }
 
@@ -664,7 +675,9 @@ pub fn frictionless_nutation(top: &PlayTop, y: &[f64; DIM]) -> Result<Frictionle
     }
     if w4.is_nan() || w4 <= 0.0 {
         return Err(KreiselError::Numerical(format!(
-            "frictionless play top: nutation frequency squared {w4} is not positive"
+            "frictionless play top: the nutation from this state (u0 = {u0}, du/dt = {udot}, \
+             u between {ua} and {ub}) could not be resolved: nutation frequency squared {w4} \
+             is not positive"
         )));
     }
     let mm = (beta * (dhi - dlo) / w4).clamp(0.0, 1.0);

@@ -72,13 +72,16 @@ class Event:
             raise ParameterError("function = None is not allowed: give a callable")
         if function is not None and not callable(function):
             raise ParameterError(f"function = {function!r} is not allowed: it must be callable")
-        if direction not in (-1, 0, 1):
+        if isinstance(direction, bool) or not isinstance(direction, (int, np.integer)):
             raise ParameterError(f"direction = {direction!r} is not allowed: use -1, 0 or +1")
         self.function = function
         self.name = name or getattr(function, "__name__", "event")
-        self.direction = int(direction)
+        self.direction = int(direction) if abs(direction) < 128 else 2
         self.terminal = bool(terminal)
         self._builtin = _builtin
+        # the event's rules (direction, the range of a built-in event's value): the core's
+        kind, value = _builtin if _builtin is not None else ("user", 0.0)
+        _core.check_event((self.name, kind, None, value, self.direction, self.terminal))
 
     def __repr__(self) -> str:
         return f"Event({self.name!r}, direction={self.direction}, terminal={self.terminal})"

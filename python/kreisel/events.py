@@ -2,9 +2,6 @@
 
 from __future__ import annotations
 
-import math
-
-from ._errors import ParameterError
 from ._simulate import Event
 from ._validate import real
 
@@ -22,10 +19,9 @@ def turning_points(*, direction=0, terminal=False) -> Event:
 
 
 def theta_crossing(value, *, direction=0, terminal=False) -> Event:
-    """theta crossing ``value`` (rad, in [0, pi]); ``direction=+1`` while theta increases."""
+    """theta crossing ``value`` (rad, in [0, pi]); ``direction=+1`` while theta increases.
+    The range is the core's rule, checked when the event is made."""
     value = real("value", value)
-    if not 0.0 <= value <= math.pi:
-        raise ParameterError(f"value = {value} is not allowed: theta lies in [0, pi]")
     return Event(
         None,
         name=f"theta={value:g}",
@@ -38,8 +34,6 @@ def theta_crossing(value, *, direction=0, terminal=False) -> Event:
 def inversion(level=0.9, *, terminal=False) -> Event:
     """Play top: u = cos(theta) rising through ``level`` (the top turning over)."""
     level = real("level", level)
-    if not -1.0 <= level <= 1.0:
-        raise ParameterError(f"level = {level} is not allowed: u lies in [-1, 1]")
     return Event(
         None, name="inversion", direction=1, terminal=terminal, _builtin=("inversion", level)
     )

@@ -24,6 +24,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(simulate::many, m)?)?;
     m.add_function(wrap_pyfunction!(simulate::names, m)?)?;
     m.add_function(wrap_pyfunction!(simulate::check_settings, m)?)?;
+    m.add_function(wrap_pyfunction!(simulate::check_event, m)?)?;
     m.add_function(wrap_pyfunction!(columns::lagrange_columns, m)?)?;
     m.add_function(wrap_pyfunction!(columns::rotation_matrices, m)?)?;
     m.add_function(wrap_pyfunction!(columns::quaternions_from_euler, m)?)?;

@@ -464,6 +464,12 @@ pub fn many<'py>(
     }
 }
 
+/// Checks one event as `simulate` would (its direction and the range of its value).
+#[pyfunction]
+pub fn check_event(py: Python<'_>, event: EventTuple) -> PyResult<()> {
+    event_def(&event)?.check(None).py(py)
+}
+
 /// Checks settings for a native model exactly as `simulate` would (the core's one check and
 /// the model's own rules), without running anything.
 #[pyfunction]

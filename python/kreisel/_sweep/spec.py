@@ -183,10 +183,10 @@ class SweepSpec:
         level = _config._real(
             f"{head}[output] ", "inversion_level", out.get("inversion_level", 0.9)
         )
-        if not -1 <= level <= 1:
-            raise ParameterError(
-                f"{head}[output] inversion_level = {level} is not allowed: it must lie in [-1, 1]"
-            )
+        try:  # the inversion event's rule is the core's
+            _core.check_event(("inversion", "inversion", None, level, 1, False))
+        except ParameterError as e:
+            raise ParameterError(f"{head}[output] inversion_{e}") from None
         lyapunov_tau = _config._real(f"{head}[output] ", "lyapunov_tau",
                                      out.get("lyapunov_tau", min(1.0, sim["t_end"])))  # fmt: skip
         if "lyapunov_tau" in out and "lyapunov" not in keep:

@@ -110,6 +110,43 @@ pub struct EventDef {
     pub terminal: bool,
 }
 
+impl EventDef {
+    /// The event's own rules (its direction, and the range of its value); `i` is its
+    /// position in a list of events, if it is in one (the messages name it).
+    pub fn check(&self, i: Option<usize>) -> Result<()> {
+        let which = match i {
+            Some(i) => format!("events[{i}] ({})", self.name),
+            None => format!("event {:?}", self.name),
+        };
+        if !matches!(self.direction, -1..=1) {
+            return Err(KreiselError::InvalidParameter {
+                name: "direction".into(),
+                value: self.direction.to_string(),
+                allowed: format!("{which}: use -1, 0 or +1"),
+            });
+        }
+        match self.kind {
+            EventKind::ThetaCrossing(v)
+                if !(v.is_finite() && (0.0..=std::f64::consts::PI).contains(&v)) =>
+            {
+                Err(KreiselError::invalid(
+                    "value",
+                    v,
+                    format!("{which}: theta lies in [0, pi]"),
+                ))
+            }
+            EventKind::Inversion(v) if !(v.is_finite() && (-1.0..=1.0).contains(&v)) => {
+                Err(KreiselError::invalid(
+                    "level",
+                    v,
+                    format!("{which}: u = cos(theta) lies in [-1, 1]"),
+                ))
+            }
+            _ => Ok(()),
+        }
+    }
+}
+
 /// A user event function of (t, state).
 pub type UserFn<'a, S> = Box<dyn FnMut(f64, &S) -> f64 + 'a>;
 
@@ -245,31 +282,7 @@ impl Settings {
             });
         }
         for (i, e) in self.events.iter().enumerate() {
-            let name = format!("events[{i}].direction");
-            if !matches!(e.direction, -1..=1) {
-                return Err(KreiselError::invalid(
-                    &name,
-                    e.direction as f64,
-                    "use -1, 0 or +1",
-                ));
-            }
-            match e.kind {
-                EventKind::ThetaCrossing(v) if !v.is_finite() => {
-                    return Err(KreiselError::invalid(
-                        &format!("events[{i}] ({}) value", e.name),
-                        v,
-                        "an angle must be a finite number (rad)",
-                    ))
-                }
-                EventKind::Inversion(v) if !v.is_finite() => {
-                    return Err(KreiselError::invalid(
-                        &format!("events[{i}] ({}) level", e.name),
-                        v,
-                        "a level of u = cos(theta) must be a finite number",
-                    ))
-                }
-                _ => {}
-            }
+            e.check(Some(i))?;
         }
         Ok(info)
     }
@@ -433,6 +446,13 @@ pub trait Model: Sync {
 
     /// A running summary of a run from `s0`.
     fn summary<'a>(&'a self, s0: &Self::State, settings: &Settings) -> Self::Acc<'a>;
+
+    /// The diagnostics of a run's rows (Euler angles, energies, the model's integrals, ...).
+    type Columns;
+    /// The names of those columns, as the bindings show them.
+    fn column_names(&self) -> Vec<&'static str>;
+    /// The diagnostics of `rows`.
+    fn columns(&self, rows: &[Self::Row]) -> Self::Columns;
 }
 
 /// Checks settings for a model: [`Settings::check`], then the model's rules.

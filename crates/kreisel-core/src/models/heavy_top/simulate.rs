@@ -160,6 +160,16 @@ impl Model for HeavyTop {
     fn summary<'a>(&'a self, s0: &RigidState, _settings: &Settings) -> HeavyAcc<'a> {
         HeavyAcc::new(self, s0)
     }
+
+    type Columns = Columns;
+
+    fn column_names(&self) -> Vec<&'static str> {
+        HeavyTop::column_names(self)
+    }
+
+    fn columns(&self, rows: &[RigidState]) -> Columns {
+        HeavyTop::columns(self, rows)
+    }
 }
 
 /// What a fixed-step run of `steps` steps, completed or not, reports.

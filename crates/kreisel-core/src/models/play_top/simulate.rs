@@ -246,6 +246,16 @@ impl Model for PlayTop {
             last: None,
         }
     }
+
+    type Columns = PlayColumns;
+
+    fn column_names(&self) -> Vec<&'static str> {
+        PlayTop::COLUMN_NAMES.to_vec()
+    }
+
+    fn columns(&self, rows: &[PlayRow]) -> PlayColumns {
+        PlayTop::columns(self, rows)
+    }
 }
 
 /// The equations of the contact mode with code `M` ([`Mode::code`]), with the resistance

@@ -672,6 +672,7 @@ DOCUMENTED_NONFINITE = {
     ("simulate_many", "kovalevskaya_drift"): "nan unless a Kovalevskaya top",
     ("simulate_many", "jellett_drift"): "nan for a failed run",
     ("simulate_many", "energy_drift"): "nan for a failed run",
+    ("simulate_many", "Mz_drift"): "nan for a failed run",
     ("simulate_many", "final_"): "nan for a failed run",
     ("simulate_many", "theta_"): "nan for a failed run",
     ("sweep", ""): "nan for a failed run or a summary that does not apply",

@@ -127,6 +127,17 @@ fn check(s: &LyapunovSettings) -> Result<()> {
 
 /// Estimates the largest Lyapunov exponent of the motion from `s0`.
 pub fn lyapunov(top: &HeavyTop, s0: &RigidState, settings: &LyapunovSettings) -> Result<Lyapunov> {
+    lyapunov_with(top, s0, settings, &mut |_| true)
+}
+
+/// [`lyapunov`], asking `keep_going(t)` now and then (within each segment's run) whether to
+/// go on; an interrupted estimate is an error.
+pub fn lyapunov_with(
+    top: &HeavyTop,
+    s0: &RigidState,
+    settings: &LyapunovSettings,
+    keep_going: &mut dyn FnMut(f64) -> bool,
+) -> Result<Lyapunov> {
     check(settings)?;
     let n = (settings.t_end / settings.tau).round().max(1.0) as usize;
     let tau = settings.t_end / n as f64;
@@ -139,8 +150,13 @@ pub fn lyapunov(top: &HeavyTop, s0: &RigidState, settings: &LyapunovSettings) ->
         ..Settings::default()
     };
     simulate::check(top, &seg, 0)?;
-    let advance = |s: &RigidState| -> Result<RigidState> {
-        let out = simulate::simulate(top, s, &seg, &mut [], &mut |_| true)?;
+    let mut advance = |s: &RigidState| -> Result<RigidState> {
+        let out = simulate::simulate(top, s, &seg, &mut [], keep_going)?;
+        if out.info.status == simulate::Status::Interrupted {
+            return Err(KreiselError::Numerical(
+                "Lyapunov estimate interrupted".into(),
+            ));
+        }
         out.rows
             .last()
             .copied()

@@ -91,7 +91,15 @@ impl PyHeavyTop {
         let s0 = rigid(py, q, omega)?;
         let st = lyapunov_settings(t_end, tau, d0, direction, rtol, atol);
         let top = self.inner;
-        let res = py.detach(move || chaos::lyapunov(&top, &s0, &st)).py(py)?;
+        let (res, signal) = py.detach(move || {
+            let mut signals = crate::simulate::Signals::new();
+            let res = chaos::lyapunov_with(&top, &s0, &st, &mut |_| signals.keep_going());
+            (res, signals.error)
+        });
+        if let Some(e) = signal {
+            return Err(e);
+        }
+        let res = res.py(py)?;
         let d = PyDict::new(py);
         d.set_item("exponent", res.exponent)?;
         d.set_item("t", res.t.into_pyarray(py))?;

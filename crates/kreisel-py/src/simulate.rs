@@ -90,19 +90,19 @@ fn event_def((name, kind, _, value, direction, terminal): &EventTuple) -> PyResu
 
 /// Asks Python now and then (every 256 calls) whether a signal (Ctrl-C) came in; a run
 /// released from the interpreter stops at the next step when one did.
-struct Signals {
+pub(crate) struct Signals {
     calls: u32,
-    error: Option<PyErr>,
+    pub(crate) error: Option<PyErr>,
 }
 
 impl Signals {
-    fn new() -> Self {
+    pub(crate) fn new() -> Self {
         Signals {
             calls: 0,
             error: None,
         }
     }
-    fn keep_going(&mut self) -> bool {
+    pub(crate) fn keep_going(&mut self) -> bool {
         self.calls = self.calls.wrapping_add(1);
         if self.calls % 256 == 0 && self.error.is_none() {
             self.error = Python::attach(|py| py.check_signals().err());

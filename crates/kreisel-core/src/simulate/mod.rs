@@ -611,6 +611,19 @@ fn unwrap(last: f64, angle: f64) -> f64 {
     angle + tau * turns.round()
 }
 
+/// An integrator's failure as the user reads it: where it stopped, and for the step cap what
+/// to change (`t_end`, the tolerances).
+pub(crate) fn integrate_error(e: crate::integrate::IntegrateError, t_end: f64) -> KreiselError {
+    use crate::integrate::IntegrateError::TooManySteps;
+    match e {
+        TooManySteps { .. } => KreiselError::Numerical(format!(
+            "{e} before t_end = {}: give a shorter t_end or looser tolerances (rtol, atol)",
+            crate::error::repr(t_end)
+        )),
+        _ => KreiselError::Numerical(format!("{e}")),
+    }
+}
+
 /// The relative form of a drift `d` against `scale` (absolute where the scale is zero).
 pub(crate) fn relative(d: f64, scale: f64) -> f64 {
     if scale > 0.0 {

@@ -10,11 +10,11 @@ use crate::error::{KreiselError, Result};
 use crate::integrate::fixed::{self, FixedScheme};
 use crate::integrate::implicit::{Gauss4, Midpoint};
 use crate::integrate::rk4::Rk4Scheme;
-use crate::integrate::{Dop853, EventSpec, IntegrateError, Locator, OdeSystem, Stream, WithEvents};
+use crate::integrate::{Dop853, EventSpec, Locator, OdeSystem, Stream, WithEvents};
 use crate::rotation::{dot, euler_from_quaternion, Quat};
 use crate::simulate::{
-    self, relative, Accumulate, EventKind, EventRecord, MethodInfo, Model, RunInfo, Settings, Sink,
-    Stats, Status, Unwrapped, UserFn, MAX_STEPS,
+    self, integrate_error, relative, Accumulate, EventKind, EventRecord, MethodInfo, Model,
+    RunInfo, Settings, Sink, Stats, Status, Unwrapped, UserFn, MAX_STEPS,
 };
 
 /// The events a heavy top has.
@@ -212,10 +212,6 @@ fn run_fixed<S: FixedScheme>(
     )
 }
 
-fn integrate_error(e: IntegrateError) -> KreiselError {
-    KreiselError::Numerical(format!("{e}"))
-}
-
 /// The event function of a built-in kind, on the decoded state.
 fn builtin_event(kind: EventKind, s: &RigidState) -> f64 {
     match kind {
@@ -266,7 +262,7 @@ fn run_ode<const N: usize, S: OdeSystem<N>>(
     let (t1, st, hits) = if fns.is_empty() {
         // No events: the stream alone observes (no locator to consult after every step).
         let result = integrator.integrate(sys, 0.0, y0, t_end, &mut stream);
-        let (t1, _, st) = result.map_err(integrate_error)?;
+        let (t1, _, st) = result.map_err(|e| integrate_error(e, t_end))?;
         (t1, st, Vec::new())
     } else {
         let mut locator = Locator::new();
@@ -275,7 +271,7 @@ fn run_ode<const N: usize, S: OdeSystem<N>>(
         }
         let mut obs = WithEvents::new(locator, &mut stream);
         let result = integrator.integrate(sys, 0.0, y0, t_end, &mut obs);
-        let (t1, _, st) = result.map_err(integrate_error)?;
+        let (t1, _, st) = result.map_err(|e| integrate_error(e, t_end))?;
         let hits: Vec<(usize, f64)> = obs.locator.events.iter().map(|e| (e.index, e.t)).collect();
         (t1, st, hits)
     };

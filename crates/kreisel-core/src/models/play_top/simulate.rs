@@ -10,8 +10,8 @@ use crate::integrate::{
     Dop853, EventSpec, IntegrateError, Locator, Observer, OdeSystem, Stream, WithEvents,
 };
 use crate::simulate::{
-    relative, Accumulate, EventKind, EventRecord, MethodInfo, Model, RunInfo, Settings, Sink,
-    Status, UserFn, MAX_STEPS,
+    integrate_error, relative, Accumulate, EventKind, EventRecord, MethodInfo, Model, RunInfo,
+    Settings, Sink, Status, UserFn, MAX_STEPS,
 };
 use std::cell::Cell;
 
@@ -166,8 +166,11 @@ impl Model for PlayTop {
             let mut stream = Stream::new(seg_times, !first, Some(&mut *keep_going), row);
             let mut obs = WithEvents::new(locator, &mut stream);
             let (t1, y1, st) = integrate_phase(&integrator, top, &ph, &last, t, y, t_end, &mut obs)
-                .map_err(|e| {
-                    KreiselError::Numerical(format!("play top, {} mode: {e}", ph.mode.name()))
+                .map_err(|e| match integrate_error(e, t_end) {
+                    KreiselError::Numerical(m) => {
+                        KreiselError::Numerical(format!("play top, {} mode: {m}", ph.mode.name()))
+                    }
+                    other => other,
                 })?;
             let hits: Vec<(usize, f64)> =
                 obs.locator.events.iter().map(|e| (e.index, e.t)).collect();

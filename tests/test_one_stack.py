@@ -210,3 +210,20 @@ def test_friction_laws_are_typed_values_checked_by_the_core():
             make(-1.0)
         with pytest.raises(kreisel.ParameterError, match="mu = nan is not allowed"):
             make(float("nan"))
+
+
+def test_every_column_of_every_model_has_a_unit():
+    """The columns the core adds (potential; an exact trajectory's invariants) are written
+    with units like the others."""
+    top = kreisel.LagrangeTop(1.75e-4, 2e-5, 0.1, 0.04)
+    st = top.state(0.5, psi_dot=300.0)
+    pt = kreisel.PlayTop(0.02, 2.56e-6, 3.2e-6, 0.006, 0.02)
+    for traj in (
+        kreisel.simulate(top, st, 0.01),
+        top.exact(st, np.linspace(0.0, 0.01, 5)),
+        kreisel.simulate(pt, pt.state(3.0, psi_dot=100.0), 0.01),
+    ):
+        ds = traj.to_xarray()
+        for name in ds.data_vars:
+            assert ds[name].attrs.get("long_name") != name or name == "mode", name
+            assert "units" in ds[name].attrs, name

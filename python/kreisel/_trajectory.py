@@ -34,6 +34,7 @@ COLUMNS = {
     "energy_translation": ("J", "translational kinetic energy"),
     "energy_rotation": ("J", "rotational kinetic energy"),
     "energy_potential": ("J", "potential energy m g z_G"),
+    "potential": ("J", "potential energy m g z_G (pivot at z = 0)"),
 }
 
 # Names of the second axis of 2-D columns.

@@ -19,7 +19,7 @@ KREISEL_RUSTFLAGS ?= $(shell [ "$$(uname -m)" = x86_64 ] && [ -r /proc/cpuinfo ]
 	for f in $(V3_FLAGS); do grep -m1 '^flags' /proc/cpuinfo | grep -qw $$f || exit 0; done && \
 	echo "-C target-cpu=x86-64-v3")
 
-.PHONY: demo test test-rust test-python bench lint fmt clean setup fuzz
+.PHONY: demo test test-rust test-python bench lint fmt clean setup fuzz docs
 
 setup: $(EXT)
 
@@ -63,6 +63,17 @@ bench: $(EXT)
 	$(PY) benchmarks/bench_tippe_mujoco.py
 	$(PY) benchmarks/bench_sweep.py
 
+# The documentation site (docs/) into docs/_build/html: the guide, theory, API reference, the
+# gallery (examples/, run at build time) and the tutorials (executed notebooks). Installing the
+# tools needs PyPI; the build itself needs no network. Every Sphinx warning is an error.
+DOCS_DEPS := $(VENV)/.docs-deps-installed
+$(DOCS_DEPS): requirements-docs.txt | $(DEPS)
+	$(PY) -m pip install --quiet -r requirements-docs.txt
+	touch $@
+
+docs: $(EXT) $(DOCS_DEPS)
+	MPLBACKEND=Agg $(VENV)/bin/sphinx-build -W --keep-going -b html docs docs/_build/html
+
 lint: $(DEPS)
 	cargo clippy --all-targets -- -D warnings
 	cargo fmt --check
@@ -74,4 +85,4 @@ fmt: $(DEPS)
 	$(VENV)/bin/ruff format python tests benchmarks examples
 
 clean:
-	rm -rf $(VENV) target kreisel-out
+	rm -rf $(VENV) target kreisel-out docs/_build docs/auto_examples docs/api/generated

@@ -1,4 +1,7 @@
-"""Figure: where simulated play tops end, drawn over the (alpha, gamma) atlas.
+"""Where simulated play tops end, over the atlas
+=============================================
+
+Figure: where simulated play tops end, drawn over the (alpha, gamma) atlas.
 
     python examples/atlas_endings.py [OUT_DIR | OUT.png] [--full]
 

@@ -1,4 +1,7 @@
-"""Figure: the tip of a Lagrange top's figure axis on the unit sphere (cusps).
+"""The figure axis on the unit sphere
+==================================
+
+Figure: the tip of a Lagrange top's figure axis on the unit sphere (cusps).
 
     python examples/axis_on_sphere.py [OUT_DIR]
 

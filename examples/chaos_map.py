@@ -1,4 +1,7 @@
-"""Where a heavy top is chaotic: the largest Lyapunov exponent over the position of the
+"""Where a heavy top is chaotic
+============================
+
+Where a heavy top is chaotic: the largest Lyapunov exponent over the position of the
 centre of mass, for a body with I1 = 2 I3 = I2 (Kovalevskaya's ratios, K-top at com_z = 0)
 and a slightly asymmetric one, from a sweep of 2 x 13 x 13 tops. Writes chaos_map.png.
 

@@ -1,4 +1,7 @@
-"""Figure: the contact point's track on the floor of a top on a blunt tip, coloured by
+"""The contact point's track on the floor
+======================================
+
+Figure: the contact point's track on the floor of a top on a blunt tip, coloured by
 contact mode (slip, roll, flight).
 
     python examples/contact_track.py [OUT_DIR]

@@ -1,4 +1,7 @@
-"""Figure: the effective potential of the nutation, the energy line and the turning points.
+"""The effective potential of the nutation
+=======================================
+
+Figure: the effective potential of the nutation, the energy line and the turning points.
 
     python examples/effective_potential.py [OUT_DIR]
 

@@ -1,4 +1,7 @@
-"""Interactive view (HTML, plotly): a gyroscope precessing; drag to turn it, play to run.
+"""An interactive gyroscope (HTML)
+===============================
+
+Interactive view (HTML, plotly): a gyroscope precessing; drag to turn it, play to run.
 
     python examples/gyroscope_html.py [OUT_DIR]
 

@@ -1,4 +1,7 @@
-"""Figure: how well three integrators keep the energy and Mz of a heavy top over many periods.
+"""How integrators keep the invariants
+===================================
+
+Figure: how well three integrators keep the energy and Mz of a heavy top over many periods.
 
     python examples/invariant_drift.py [OUT_DIR | OUT.png]
 

@@ -1,4 +1,7 @@
-"""Figure: the Kovalevskaya top, integrated with the 6th-order splitting, and how well its
+"""The Kovalevskaya top and its four integrals
+===========================================
+
+Figure: the Kovalevskaya top, integrated with the 6th-order splitting, and how well its
 four integrals are kept.
 
     python examples/kovalevskaya.py [OUT_DIR]

@@ -1,4 +1,7 @@
-"""Figure: theta, the rates and the energy of a Lagrange top over time (exact solution).
+"""A Lagrange top over time (exact solution)
+=========================================
+
+Figure: theta, the rates and the energy of a Lagrange top over time (exact solution).
 
     python examples/lagrange_time_series.py [OUT_DIR]
 

@@ -1,4 +1,7 @@
-"""Animation (MP4): a toy top nutating in loops, in slow motion.
+"""A toy top nutating in loops (MP4)
+=================================
+
+Animation (MP4): a toy top nutating in loops, in slow motion.
 
     python examples/nutation_mp4.py [OUT_DIR]
 

@@ -1,4 +1,7 @@
-"""Figure: the three classic nutation patterns of a Lagrange top in the (phi, theta) plane.
+"""The three nutation patterns
+===========================
+
+Figure: the three classic nutation patterns of a Lagrange top in the (phi, theta) plane.
 
     python examples/nutation_patterns.py [OUT_DIR]
 

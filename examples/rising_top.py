@@ -1,4 +1,7 @@
-"""Figure: a blunt tip rises to the vertical, a pointed one keeps precessing.
+"""A blunt tip rises, a pointed one does not
+=========================================
+
+Figure: a blunt tip rises to the vertical, a pointed one keeps precessing.
 
     python examples/rising_top.py [OUT_DIR]
 

@@ -1,4 +1,7 @@
-"""Which tippe tops turn over: a sweep of 552 runs over the centre-of-mass offset s and the
+"""Which tippe tops turn over (a sweep)
+====================================
+
+Which tippe tops turn over: a sweep of 552 runs over the centre-of-mass offset s and the
 spin, from examples/tippe_inversion_map.toml, into a Zarr store. Writes
 tippe_inversion_map.png: the inversion time over (psi_dot, s), blank where the top does not
 turn over within 5 s, and the final u.
@@ -17,7 +20,9 @@ from kreisel import plot
 
 out = Path(sys.argv[1] if len(sys.argv) > 1 else "kreisel-out")
 out.mkdir(parents=True, exist_ok=True)
-spec = Path(__file__).with_suffix(".toml")
+# sphinx-gallery runs a script in its own folder and defines no __file__
+here = Path(__file__).parent if "__file__" in globals() else Path.cwd()
+spec = here / "tippe_inversion_map.toml"
 store = out / "tippe_inversion_map.zarr"
 shutil.rmtree(store, ignore_errors=True)  # a fresh sweep (the same store would be resumed)
 ds = kreisel.sweep(spec, store, progress=False)

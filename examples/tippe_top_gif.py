@@ -1,4 +1,7 @@
-"""Animation (GIF): a tippe top turning over.
+"""A tippe top turning over (GIF)
+==============================
+
+Animation (GIF): a tippe top turning over.
 
     python examples/tippe_top_gif.py [OUT_DIR]
 

@@ -1,4 +1,7 @@
-"""Figure: a tippe top turning over: u = cos(theta), the normal force, the slip speed,
+"""A tippe top turning over: its time series
+=========================================
+
+Figure: a tippe top turning over: u = cos(theta), the normal force, the slip speed,
 Jellett's integral and the energy, with the contact modes shaded.
 
     python examples/tippe_top_time_series.py [OUT_DIR]

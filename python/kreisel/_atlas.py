@@ -127,7 +127,7 @@ def _motion(t) -> StationaryMotion:
 
 
 def J_R(pt, u):
-    """``J_R(u) = J_beta N(u)/sqrt(D(u))`` (kg m^2/s), the |J| of the regular precession at
+    """``J_R(u) = J_beta N(u)/sqrt(D(u))`` (kg m^2/s), the ``|J|`` of the regular precession at
     inclination u in [-1, 1]; nan where none exists (D(u) <= 0). Same shape as ``u``."""
     arr = floats("u", u)
     out = _theory(pt).j_r(np.ascontiguousarray(arr.ravel())).reshape(arr.shape)
@@ -156,7 +156,7 @@ def regular_precession(pt, u) -> RegularPrecession:
 
 def stationary_motions(pt, J) -> list:
     """Every stationary motion at Jellett integral ``J`` (kg m^2/s), by ascending u: the
-    hanging spin, the regular precessions with ``J_R(u) = |J|`` (0, 1 or 2), the upright spin;
+    hanging spin, the regular precessions with ``J_R(u) = abs(J)`` (0, 1 or 2), the upright spin;
     each with its stability."""
     return [_motion(t) for t in _theory(pt).stationary_motions(real("J", J))]
 

@@ -33,9 +33,9 @@ class HeavyBatchSummary:
     """Per-run summaries of :func:`simulate_many` for heavy tops, as arrays.
 
     ``final_theta``, ``theta_min``, ``theta_max`` (rad, over the recorded steps);
-    ``energy_drift`` (largest |E - E0| relative to T0 + m g |c|), ``Mz_drift`` and
-    ``M3_drift`` (relative to |M0|; M3 NaN unless the top is symmetric),
-    ``kovalevskaya_drift`` (relative to |K0|; NaN unless a Kovalevskaya top), ``steps``, and
+    ``energy_drift`` (largest ``|E - E0|`` relative to ``T0 + m g |c|``), ``Mz_drift`` and
+    ``M3_drift`` (relative to ``|M0|``; M3 NaN unless the top is symmetric),
+    ``kovalevskaya_drift`` (relative to ``|K0|``; NaN unless a Kovalevskaya top), ``steps``, and
     ``errors`` (None for runs that went through)."""
 
     final_theta: np.ndarray

@@ -24,7 +24,7 @@ def lagrange_columns(traj):
 
 
 def _angular_momentum(traj):
-    """|L| at the start (kg m^2/s) of a top on a pivot, or None."""
+    """``|L|`` at the start (kg m^2/s) of a top on a pivot, or None."""
     from ._lagrange import LagrangeTop
 
     model = getattr(traj, "model", None)
@@ -44,7 +44,7 @@ def _angular_momentum(traj):
 def conserved(traj):
     """``[(key, label, values, scale)]``: the quantities the motion conserves, as the
     trajectory carries them, each with the scale its drift is measured against: energy, Mz,
-    M3, Kovalevskaya's K for a top on a pivot (Mz and M3 against |L|, which stays meaningful
+    M3, Kovalevskaya's K for a top on a pivot (Mz and M3 against ``|L|``, which stays meaningful
     when Mz or M3 is zero); Jellett's integral and the energy balance E + dissipated for a
     play top."""
     cols = set(traj.columns)

@@ -21,8 +21,8 @@ def _native_law(law, make) -> None:
 
 @dataclass(frozen=True)
 class Coulomb:
-    """Coulomb friction: |F_t| = mu N against the slip while slipping; rolling without slip
-    while the needed force stays within |F_t| <= mu N (true stick-slip)."""
+    """Coulomb friction: ``|F_t| = mu N`` against the slip while slipping; rolling without slip
+    while the needed force stays within ``|F_t| <= mu N`` (true stick-slip)."""
 
     mu: float = 0.3
     _native: object = field(init=False, repr=False, compare=False)
@@ -285,7 +285,7 @@ class PlayTop:
     # Stationary motions, stability and the atlas: thin wrappers of kreisel._atlas.
 
     def J_R(self, u):
-        """``J_R(u) = J_beta N(u)/sqrt(D(u))`` (kg m^2/s): the |J| of the regular precession at
+        """``J_R(u) = J_beta N(u)/sqrt(D(u))`` (kg m^2/s): the ``|J|`` of the regular precession at
         inclination ``u = cos(theta)``; nan where none exists. Vectorised over ``u``."""
         return _atlas.J_R(self, u)
 

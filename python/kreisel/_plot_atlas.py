@@ -230,9 +230,9 @@ def vertical_axis_diagram(pt=None, ax=None, *, x_max=2.0, y_max=2.6):
 
 
 def J_R_plot(pt, J=None, ax=None, *, n=2001):
-    """J_R(u)/J_beta, the |J| of the regular precession at each inclination u = cos(theta):
+    """J_R(u)/J_beta, the ``|J|`` of the regular precession at each inclination u = cos(theta):
     stable branches (dJ_R/du > 0) solid, unstable dashed; J_R(+-1) and u_m marked; and, for
-    a given J (kg m^2/s), the line |J| and its stationary motions, filled where stable:
+    a given J (kg m^2/s), the line ``|J|`` and its stationary motions, filled where stable:
     circles for precessions, triangles for the vertical spins (down: upright, up: hanging).
     """
     plt = _pyplot()

@@ -253,7 +253,7 @@ def axis_path_phi_theta(traj, ax=None, *, color="C0", label=None, turning_points
 
 def invariant_drift(traj, ax=None, *, floor=1e-17):
     """Relative drift ``|X(t) - X(0)| / |X(0)|`` of the conserved quantities on a log scale
-    (Mz and M3 against the angular momentum |L| when they start near zero):
+    (Mz and M3 against the angular momentum ``|L|`` when they start near zero):
     energy, Mz, M3 and Kovalevskaya's integral where the trajectory carries them (an exact
     Lagrange trajectory: computed from its angles and rates); for a play top, Jellett's
     integral and the energy balance E + dissipated. Exact zeros are drawn at ``floor``."""

@@ -70,10 +70,13 @@ class SweepSpec:
 
     @classmethod
     def from_toml(cls, path) -> SweepSpec:
+        """The spec in a TOML file (path): the tables of :meth:`from_tables`."""
         return cls.from_tables(_config.read_toml(path), source=str(path))
 
     @classmethod
     def from_tables(cls, tables: dict, *, source: str = "") -> SweepSpec:
+        """The spec from its tables ``top``, ``state``, ``simulation``, ``grid``, ``random`` and
+        ``output`` (a dict of dicts); ``source`` names the file in error messages."""
         head = f"{source}: " if source else ""
         if not isinstance(tables, dict):
             raise ParameterError(f"{head}a sweep spec must be a table of tables")
@@ -244,18 +247,22 @@ class SweepSpec:
 
     @property
     def swept(self) -> tuple:
+        """The names of the swept fields: the grid's, then the random ones."""
         return (*self.grid, *self.random)
 
     @property
     def dims(self) -> tuple:
+        """The dimensions of the results: the grid's fields, then ``"sample"`` if random."""
         return (*self.grid, *(("sample",) if self.random else ()))
 
     @property
     def shape(self) -> tuple:
+        """The number of values along each dimension of :attr:`dims`."""
         return (*(len(v) for v in self.grid.values()), *((self.n_samples,) if self.random else ()))
 
     @property
     def size(self) -> int:
+        """The number of runs."""
         return int(np.prod(self.shape, dtype=np.int64))
 
     @property
@@ -271,13 +278,16 @@ class SweepSpec:
 
     @property
     def chunk_grid(self) -> tuple:
+        """The number of chunks along each dimension."""
         return tuple(-(-n // b) for n, b in zip(self.shape, self.block))
 
     @property
     def n_chunks(self) -> int:
+        """The number of chunks of the store."""
         return int(np.prod(self.chunk_grid, dtype=np.int64))
 
     def chunk_slices(self, k: int) -> tuple:
+        """The slices (one per dimension) of chunk ``k`` (C order over :attr:`chunk_grid`)."""
         idx = np.unravel_index(k, self.chunk_grid)
         return tuple(
             slice(i * b, min((i + 1) * b, n)) for i, b, n in zip(idx, self.block, self.shape)
@@ -331,6 +341,7 @@ class SweepSpec:
         }
 
     def canonical(self) -> str:
+        """The spec as sorted JSON: two sweeps are the same sweep iff these are equal."""
         return json.dumps(self.as_dict(), sort_keys=True)
 
 

@@ -79,6 +79,7 @@ lint: $(DEPS)
 	cargo fmt --check
 	$(VENV)/bin/ruff check python tests benchmarks examples
 	$(VENV)/bin/ruff format --check python tests benchmarks examples
+	$(VENV)/bin/mypy
 
 fmt: $(DEPS)
 	cargo fmt

@@ -194,7 +194,7 @@ def zone_boundaries(alpha):
     """
     a = np.asarray(alpha, dtype=float)
     lo, hi, um, eq = _core.play_zone_boundaries(np.ascontiguousarray(a.ravel()))
-    out = {
+    out: dict[str, np.ndarray] = {
         "u_m=1 lower": lo,
         "u_m=1 upper": hi,
         "u_m=-1": um,

@@ -219,8 +219,10 @@ def _heavy_runs(models, states):
 
 def _lyapunov_many(models, states, t_end, *, tau, d0, direction, rtol, atol, threads=None):
     """Largest Lyapunov exponents of heavy tops in parallel: (exponents, errors)."""
+    tops, runs = _heavy_runs(models, states)
     out = _core.lyapunov_many(
-        *_heavy_runs(models, states),
+        tops,
+        runs,
         real("t_end", t_end),
         real("tau", tau),
         real("d0", d0),

@@ -5,6 +5,7 @@ table, the field and what is allowed."""
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -77,8 +78,8 @@ class Problem:
     """A validated top, state and settings."""
 
     kind: str
-    model: object
-    state: object
+    model: Any  # LagrangeTop, HeavyTop or PlayTop
+    state: Any  # its state
     settings: Settings
     tables: dict
     preset: str | None = None
@@ -221,7 +222,7 @@ def _model(kind: str, top: dict, where: str):
         if friction == "none":
             if mu is not None and mu != 0:
                 raise ParameterError(f"mu = {mu!r} is not allowed with friction = 'none'")
-            law = Frictionless()
+            law: Frictionless | Viscous | Coulomb = Frictionless()
         elif friction == "viscous":
             law = Viscous(mu=1.0 if mu is None else mu)
         else:

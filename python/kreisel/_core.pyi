@@ -12,16 +12,17 @@ from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
+from typing_extensions import TypeAlias
 
 __version__: str
 
-F64 = NDArray[np.float64]
-Quaternion = tuple[float, float, float, float] | Sequence[float]
-Vector3 = tuple[float, float, float] | Sequence[float]
-EulerTuple = tuple[float, float, float, float, float, float]  # theta, phi, psi and rates
-Packed = tuple[Sequence[float], Sequence[float], Sequence[float], Sequence[float]]
+F64: TypeAlias = NDArray[np.float64]
+Quaternion: TypeAlias = tuple[float, float, float, float] | Sequence[float]
+Vector3: TypeAlias = tuple[float, float, float] | Sequence[float]
+EulerTuple: TypeAlias = tuple[float, float, float, float, float, float]  # theta, phi, psi and rates
+Packed: TypeAlias = tuple[Sequence[float], Sequence[float], Sequence[float], Sequence[float]]
 # (name, kind, user function of (t, q, omega) or None, level, direction, terminal)
-EventTuple = tuple[str, str, Callable[[float, F64, F64], float] | None, float, int, bool]
+EventTuple: TypeAlias = tuple[str, str, Callable[[float, F64, F64], float] | None, float, int, bool]
 
 class LagrangeTop:
     def __new__(cls, i1: float, i3: float, m: float, l: float, g: float) -> LagrangeTop: ...
@@ -94,7 +95,7 @@ class PlayTop:
         self, q: Quaternion, omega: Vector3, vx: float, vy: float, height: float | None = None
     ) -> Packed: ...
     def state_from_euler(
-        self, euler: EulerTuple, vx: float, vy: float, height: float | None = None
+        self, euler: Sequence[float], vx: float, vy: float, height: float | None = None
     ) -> Packed: ...
     def invariants(self, s: Packed) -> tuple[float, float]: ...
 
@@ -125,7 +126,7 @@ def simulate(
     rtol: float,
     atol: float,
     dt: float | None = None,
-    t_eval: Sequence[float] | None = None,
+    t_eval: Sequence[float] | F64 | None = None,
     events: Sequence[EventTuple] = ...,
     reduced: bool = False,
 ) -> dict[str, Any]: ...
@@ -197,4 +198,4 @@ def cubic_roots(c0: float, c1: float, c2: float, c3: float) -> list[float]: ...
 def play_u_m(alpha: float, gamma: float) -> float | None: ...
 def play_classify(alpha: float, gamma: float) -> tuple[str, int, str]: ...
 def play_zones(alpha: ArrayLike, gamma: ArrayLike) -> NDArray[np.int64]: ...
-def play_zone_boundaries(alpha: ArrayLike) -> dict[str, F64]: ...
+def play_zone_boundaries(alpha: ArrayLike) -> tuple[F64, F64, F64, F64]: ...

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -99,6 +100,10 @@ class _Rigid:
     """What every top on a pivot shares: states and invariants through the native top."""
 
     __slots__ = ()
+
+    if TYPE_CHECKING:
+
+        def _heavy_native(self) -> _core.HeavyTop: ...
 
     def state(self, theta, phi=0.0, psi=0.0, theta_dot=0.0, phi_dot=0.0, psi_dot=0.0):
         """A state in Euler angles (z-x-z, rad) and their rates (rad/s); theta in [0, pi]."""
@@ -205,7 +210,7 @@ class HeavyTop(_Rigid):
         inertia = [real("I1", I1), real("I2", I2), real("I3", I3)]
         mass, grav = real("m", m), real("g", g)
         c = _vector("com", com, 3)
-        self._native = _core.HeavyTop(*inertia, mass, c, grav)
+        self._native = _core.HeavyTop(inertia[0], inertia[1], inertia[2], mass, c, grav)
         self._I, self._m, self._com, self._g = tuple(inertia), mass, tuple(c), grav
 
     def _heavy_native(self):

@@ -101,7 +101,7 @@ class LagrangeTop(_Rigid):
             )
         return state.as_tuple()
 
-    def invariants(self, state) -> Invariants:
+    def invariants(self, state) -> Invariants:  # type: ignore[override]
         """Energy E (J), vertical angular momentum Mz and axial M3 (kg m^2/s) of a state."""
         return Invariants(*self._native.invariants(self._tuple(state)))
 

@@ -171,7 +171,7 @@ class PlayTop:
             air_drag=real("air_drag", air_drag),
         )
         self._native = _core.PlayTop(
-            p["m"], p["A"], p["C"], p["s"], p["rho"], p["g"], friction._native,
+            p["m"], p["A"], p["C"], p["s"], p["rho"], p["g"], friction._native,  # type: ignore[arg-type]
             p["restitution"], p["rolling_resistance"], p["drilling_resistance"], p["air_drag"],
         )  # fmt: skip
         self._p, self._friction = p, friction

@@ -6,6 +6,7 @@ from __future__ import annotations
 import json
 import math
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -60,7 +61,7 @@ def summary(problem: Problem, traj) -> dict:
     from ._trajectory import COLUMNS
 
     model, state = problem.model, problem.state
-    out = {
+    out: dict[str, Any] = {
         "kreisel": __version__,
         "kind": problem.kind,
         "preset": problem.preset,
@@ -100,7 +101,7 @@ def summary(problem: Problem, traj) -> dict:
             "energy": model.energy(state),
         }
     t = traj.t
-    res = {"samples": len(t), "t_end": float(t[-1]) if len(t) else 0.0}
+    res: dict[str, Any] = {"samples": len(t), "t_end": float(t[-1]) if len(t) else 0.0}
     stats = getattr(traj, "stats", None)
     if stats:
         res["stats"] = dict(stats)
@@ -224,7 +225,7 @@ def run(problem: Problem, out: Path, *, fmt="netcdf", figures=True, animation=No
     step(0, "computing the motion")
     traj = compute(problem)
     step(1, "writing the trajectory")
-    files = {}
+    files: dict[str, Any] = {}
     ext = {"netcdf": "nc", "csv": "csv"}[fmt]
     path = out / f"trajectory.{ext}"
     write_trajectory(problem, traj, path, fmt)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import html
+from typing import Any
 
 import numpy as np
 
@@ -69,8 +70,10 @@ class Trajectory:
     """
 
     __slots__ = ("_cols", "_meta")
+    _cols: dict[str, Any]
+    _meta: dict[str, Any]
 
-    def __init__(self, columns: dict[str, np.ndarray], **meta):
+    def __init__(self, columns: dict[str, Any], **meta: Any) -> None:
         n = len(columns["t"])
         for k, v in columns.items():
             if not isinstance(v, Deferred) and len(v) != n:
@@ -147,6 +150,7 @@ class Trajectory:
             if name == "t":
                 continue
             col = np.asarray(col)
+            dims: tuple[str, ...]
             if col.ndim == 1:
                 dims = ("t",)
             else:
@@ -155,7 +159,7 @@ class Trajectory:
                 col = col.astype(str)
             units, meaning = COLUMNS.get(name, ("", name))
             data[name] = xr.Variable(dims, col, attrs={"units": units, "long_name": meaning})
-        coords = {"t": ("t", t, {"units": "s", "long_name": "time"})}
+        coords: dict[str, Any] = {"t": ("t", t, {"units": "s", "long_name": "time"})}
         for name, col in self._all().items():
             if np.ndim(col) == 2:
                 dim, labels = _COMPONENTS.get(name, _SPACE)

@@ -22,6 +22,7 @@ Every function imports matplotlib, imageio or plotly only when called.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any, cast
 
 import numpy as np
 
@@ -69,7 +70,7 @@ class Shape:
 
 def _profile(points, tip_until=0):
     pts = np.asarray(points, dtype=float)
-    tip = np.zeros(len(pts) - 1, dtype=bool)
+    tip: np.ndarray = np.zeros(len(pts) - 1, dtype=bool)
     tip[:tip_until] = True
     return pts[:, 0], pts[:, 1], tip
 
@@ -159,7 +160,7 @@ def _mesh(shape: Shape, around: int):
     v[..., 1] = shape.r[:, None] * np.sin(ang)[None, :] + shape.centre[1]
     v[..., 2] = shape.z[:, None] + shape.centre[2]
     colours = np.where(shape.tip[:, None, None], _TIP, _BODY) * np.ones((1, around, 1))
-    stripe = np.zeros(around, dtype=bool)
+    stripe: np.ndarray = np.zeros(around, dtype=bool)
     # two stripes on opposite sides, so that one is always in sight
     stripe[: max(1, around // 9)] = True
     stripe[around // 2 : around // 2 + max(1, around // 9)] = True
@@ -327,7 +328,7 @@ class _Scene:
         d = frames.dense if frames.dense is not None else frames
         self.dense_t = d.t
         self.trace = d.origin + d.rotation @ top_body
-        self.dense_contact = d.contact
+        self.dense_contact: Any = d.contact
         size = self.shape.size
         if self.play:
             travel = np.ptp(frames.origin[:, :2], axis=0).max()
@@ -356,7 +357,7 @@ class _Scene:
         ax.set_xlabel(f"x ({unit})", fontsize=8, labelpad=-4)
         ax.set_ylabel(f"y ({unit})", fontsize=8, labelpad=-4)
         ax.set_zlabel(f"z ({unit})", fontsize=8, labelpad=-4)
-        self.floor = None
+        self.floor: Any = None
         if self.play:
             # the floor is always behind the top (the camera looks from above it)
             ax.computed_zorder = False
@@ -576,10 +577,10 @@ def figure(traj, *, frames=60, model=None, around=24, t_start=None, t_stop=None,
     flat = vert.reshape(-1, 3)
     top_body = shape.centre + np.array([0.0, 0.0, shape.top])
     # the traces at up to 600 times: the file stays small, the curves smooth
-    d = f.dense
+    d = cast(Frames, f.dense)
     keep = np.unique(np.linspace(0, len(d.t) - 1, min(600, len(d.t))).astype(int))
     dt_, trace = d.t[keep], np.round((d.origin + d.rotation @ top_body)[keep], 6)
-    dcontact = d.contact[keep] if d.contact is not None else None
+    dcontact: Any = d.contact[keep] if d.contact is not None else None
     play = f.contact is not None
 
     def body(i, full=True):

@@ -3,6 +3,8 @@ their summaries. It runs on a Dask worker as well as here: it needs kreisel only
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 
 from .. import _config
@@ -43,11 +45,11 @@ def compute_chunk(spec: dict, values: dict, threads=None) -> dict:
         except ParameterError as e:
             errors[i] = str(e)
     sim = spec["simulation"]
-    out = {}
+    out: dict[str, Any] = {}
     kept = spec["keep"]
     for name in kept:
         out[name] = np.full(n, MODE_ERROR if name in CATEGORIES else np.nan)
-    status = np.full(n, 2, dtype=np.int8)
+    status: np.ndarray = np.full(n, 2, dtype=np.int8)
     if models and sim.get("exact"):
         for i, model, state in zip(where, models, states):
             try:
@@ -67,7 +69,7 @@ def compute_chunk(spec: dict, values: dict, threads=None) -> dict:
             kw.update(method=sim.get("method", "dop853"), dt=sim.get("dt"))
         t_end = sim.get("t_end", _config.DEFAULT_T_END[kind])
         kept_here = [k for k in kept if k != "lyapunov"]
-        res = None
+        res: Any = None
         if kept_here:
             # every model the same way: native models and flat states to the core's batch
             natives = [m._native_model() for m in models]

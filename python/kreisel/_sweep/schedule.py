@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import os
 import uuid
+from typing import Any
 
 import numpy as np
 
@@ -131,7 +132,8 @@ class _Work:
                  threads, limits: tuple):  # fmt: skip
         """`runs`: the chunks to do, with their numbers of runs; `limits`: the tasks' sizes
         (see :func:`_tasks`)."""
-        self.client, self.pool, self.parts = client, None, {}
+        self.client, self.pool = client, None
+        self.parts: dict[Any, Any] = {}
         self.futures = {}  # (task, future) by position (local) or Dask key
         self.missing = dict(runs)  # runs still to come in, by chunk
         todo = list(runs)

@@ -6,6 +6,7 @@ from __future__ import annotations
 import json
 import os
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -346,7 +347,7 @@ class SweepSpec:
 
 
 def _plain(d: dict) -> dict:
-    out = {}
+    out: dict[str, Any] = {}
     for k, v in d.items():
         if isinstance(v, (np.ndarray, list, tuple)):
             out[k] = [float(x) for x in v]

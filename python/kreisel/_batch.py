@@ -2,13 +2,18 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from . import _core
 from ._errors import ParameterError
 from ._validate import real
+
+if TYPE_CHECKING:
+    from ._simulate import Model, State
 
 
 @dataclass(frozen=True)
@@ -99,18 +104,18 @@ def _natives(models, states):
 
 
 def simulate_many(
-    models,
-    states,
-    t_end,
+    models: Model | Sequence[Model],
+    states: State | Sequence[State],
+    t_end: float,
     *,
-    method="dop853",
-    rtol=1e-10,
-    atol=1e-12,
-    dt=None,
-    inversion_level=0.9,
-    threads=None,
-    progress=False,
-):
+    method: str = "dop853",
+    rtol: float = 1e-10,
+    atol: float = 1e-12,
+    dt: float | None = None,
+    inversion_level: float = 0.9,
+    threads: int | None = None,
+    progress: bool = False,
+) -> BatchSummary | HeavyBatchSummary:
     """Simulates many tops in parallel (the GIL released) and summarises each run.
 
     Each run is computed exactly as :func:`simulate` would compute it alone, so the

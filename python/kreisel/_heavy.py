@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Union
 
 import numpy as np
 
@@ -12,6 +12,11 @@ from . import _core
 from ._errors import ParameterError, ParameterTypeError
 from ._state import EulerState
 from ._validate import real
+
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike
+
+    AnyRigidState = Union[EulerState, "RigidState"]
 
 
 @dataclass(frozen=True)
@@ -105,11 +110,19 @@ class _Rigid:
 
         def _heavy_native(self) -> _core.HeavyTop: ...
 
-    def state(self, theta, phi=0.0, psi=0.0, theta_dot=0.0, phi_dot=0.0, psi_dot=0.0):
+    def state(
+        self,
+        theta: float,
+        phi: float = 0.0,
+        psi: float = 0.0,
+        theta_dot: float = 0.0,
+        phi_dot: float = 0.0,
+        psi_dot: float = 0.0,
+    ) -> EulerState:
         """A state in Euler angles (z-x-z, rad) and their rates (rad/s); theta in [0, pi]."""
         return euler_state(theta, phi, psi, theta_dot, phi_dot, psi_dot)
 
-    def state_from_quaternion(self, q, omega) -> RigidState:
+    def state_from_quaternion(self, q: ArrayLike, omega: ArrayLike) -> RigidState:
         """A state from a quaternion (w, x, y, z; normalised here, components of any finite
         size; not zero) and the body angular velocity ``omega`` (rad/s, shape (3,), each
         component of magnitude at most 1e100)."""
@@ -125,7 +138,7 @@ class _Rigid:
         s = rigid_state(state)
         return [*np.asarray(s.quaternion, dtype=float), *np.asarray(s.omega, dtype=float)]
 
-    def invariants(self, state) -> dict:
+    def invariants(self, state: AnyRigidState) -> dict[str, float]:
         """``{"energy", "Mz"}`` and, where they are integrals, ``"M3"`` and
         ``"kovalevskaya"``, of a state."""
         s = rigid_state(state)
@@ -141,14 +154,14 @@ class _Rigid:
 
     def lyapunov(
         self,
-        state,
-        t_end,
+        state: AnyRigidState,
+        t_end: float,
         *,
-        tau=1.0,
-        d0=1e-9,
-        direction=(1.0, 1.0, 1.0, 1.0, 1.0, 1.0),
-        rtol=1e-10,
-        atol=1e-12,
+        tau: float = 1.0,
+        d0: float = 1e-9,
+        direction: ArrayLike = (1.0, 1.0, 1.0, 1.0, 1.0, 1.0),
+        rtol: float = 1e-10,
+        atol: float = 1e-12,
     ) -> LyapunovEstimate:
         """The largest Lyapunov exponent (1/s) of the motion from ``state``, by Benettin's
         renormalisation of a second motion started ``d0`` away along ``direction`` (a
@@ -206,7 +219,9 @@ class HeavyTop(_Rigid):
 
     __slots__ = ("_I", "_m", "_com", "_g", "_native")
 
-    def __init__(self, I1, I2, I3, m, com, g=9.81):
+    def __init__(
+        self, I1: float, I2: float, I3: float, m: float, com: ArrayLike, g: float = 9.81
+    ) -> None:
         inertia = [real("I1", I1), real("I2", I2), real("I3", I3)]
         mass, grav = real("m", m), real("g", g)
         c = _vector("com", com, 3)

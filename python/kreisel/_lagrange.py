@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from . import _core
@@ -10,6 +12,9 @@ from ._heavy import RigidState, _Rigid, euler_state
 from ._state import EulerState, Invariants, NutationAnalysis
 from ._trajectory import Deferred, Trajectory
 from ._validate import floats, real, times
+
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike, NDArray
 
 
 class LagrangeTop(_Rigid):
@@ -36,7 +41,7 @@ class LagrangeTop(_Rigid):
 
     __slots__ = ("_I1", "_I3", "_m", "_l", "_g", "_native")
 
-    def __init__(self, I1, I3, m, l, g=9.81):  # noqa: E741 (l is the physics name)
+    def __init__(self, I1: float, I3: float, m: float, l: float, g: float = 9.81) -> None:  # noqa: E741
         values = {k: real(k, v) for k, v in dict(I1=I1, I3=I3, m=m, l=l, g=g).items()}
         self._native = _core.LagrangeTop(
             values["I1"], values["I3"], values["m"], values["l"], values["g"]
@@ -76,7 +81,15 @@ class LagrangeTop(_Rigid):
 
     # -- states and invariants -------------------------------------------------------------
 
-    def state(self, theta, phi=0.0, psi=0.0, theta_dot=0.0, phi_dot=0.0, psi_dot=0.0):
+    def state(
+        self,
+        theta: float,
+        phi: float = 0.0,
+        psi: float = 0.0,
+        theta_dot: float = 0.0,
+        phi_dot: float = 0.0,
+        psi_dot: float = 0.0,
+    ) -> EulerState:
         """A state in Euler angles (rad) and rates (rad/s); theta in [0, pi].
 
         Returns
@@ -85,7 +98,7 @@ class LagrangeTop(_Rigid):
         """
         return euler_state(theta, phi, psi, theta_dot, phi_dot, psi_dot)
 
-    def state_from_quaternion(self, q, omega) -> RigidState:
+    def state_from_quaternion(self, q: ArrayLike, omega: ArrayLike) -> RigidState:
         """A state from a quaternion (w, x, y, z; normalised here) and the body angular
         velocity ``omega`` (rad/s), for :func:`kreisel.simulate`."""
         return _Rigid.state_from_quaternion(self, q, omega)
@@ -101,11 +114,13 @@ class LagrangeTop(_Rigid):
             )
         return state.as_tuple()
 
-    def invariants(self, state) -> Invariants:  # type: ignore[override]
+    def invariants(self, state: EulerState) -> Invariants:  # type: ignore[override]
         """Energy E (J), vertical angular momentum Mz and axial M3 (kg m^2/s) of a state."""
         return Invariants(*self._native.invariants(self._tuple(state)))
 
-    def effective_potential(self, theta, Mz, M3):
+    def effective_potential(
+        self, theta: ArrayLike, Mz: float, M3: float
+    ) -> float | NDArray[np.float64]:
         """Effective potential of the nutation (J), vectorised over ``theta`` (rad).
 
         ``Veff = m g l cos(theta) + (Mz - M3 cos(theta))^2 / (2 I1 sin^2(theta)) + M3^2/(2 I3)``,
@@ -121,27 +136,27 @@ class LagrangeTop(_Rigid):
 
     # -- analysis of the motion from a state -----------------------------------------------
 
-    def analyse(self, state) -> NutationAnalysis:
+    def analyse(self, state: EulerState) -> NutationAnalysis:
         """Kind of motion, turning points, nutation period and mean precession rate."""
         d = self._native.analyse(self._tuple(state))
         d.pop("segments")
         return NutationAnalysis(**d)
 
-    def turning_points(self, state) -> tuple[float, float]:
+    def turning_points(self, state: EulerState) -> tuple[float, float]:
         """(theta_min, theta_max): the nutation's turning points (rad)."""
         a = self.analyse(state)
         return (a.theta_min, a.theta_max)
 
-    def nutation_period(self, state) -> float:
+    def nutation_period(self, state: EulerState) -> float:
         """Period of the nutation (s); ``inf`` on the separatrix. For a steady motion, the
         limit period of small nutations about it."""
         return self.analyse(state).nutation_period
 
-    def mean_precession_rate(self, state) -> float:
+    def mean_precession_rate(self, state: EulerState) -> float:
         """Mean of phi_dot over a nutation period (rad/s)."""
         return self.analyse(state).mean_precession_rate
 
-    def motion_kind(self, state) -> str:
+    def motion_kind(self, state: EulerState) -> str:
         """One of ``"sleeping"`` (theta = 0 always), ``"hanging"`` (theta = pi always),
         ``"regular_precession"``, ``"waves"`` (phi_dot never zero), ``"cusps"`` (phi_dot = 0 at
         a turning point), ``"loops"`` (phi_dot changes sign), ``"through_vertical"`` (the axis
@@ -149,7 +164,7 @@ class LagrangeTop(_Rigid):
         creeps up to the vertical in infinite time)."""
         return self.analyse(state).kind
 
-    def exact(self, state, t, *, direct: bool = False) -> Trajectory:
+    def exact(self, state: EulerState, t: ArrayLike, *, direct: bool = False) -> Trajectory:
         """The exact motion from ``state`` (taken at t = 0) at times ``t`` (s, 1-D, any order).
 
         Returns a :class:`Trajectory` with ``t``, ``theta``, ``phi``, ``psi``, ``theta_dot``,
@@ -178,7 +193,7 @@ class LagrangeTop(_Rigid):
 
     # -- steady precession and the sleeping top --------------------------------------------
 
-    def steady_precession(self, theta0, omega3) -> tuple[float, ...]:
+    def steady_precession(self, theta0: float, omega3: float) -> tuple[float, ...]:
         """Steady precession rates (rad/s) at inclination ``theta0`` (rad) for axial spin
         ``omega3 = psi_dot + phi_dot cos(theta)`` (rad/s), ascending; ``()`` when none exists.
 
@@ -186,7 +201,7 @@ class LagrangeTop(_Rigid):
         """
         return tuple(self._native.steady_precession(real("theta0", theta0), real("omega3", omega3)))
 
-    def nutation_frequency(self, theta0, omega3, rate) -> float:
+    def nutation_frequency(self, theta0: float, omega3: float, rate: float) -> float:
         """Angular frequency (rad/s) of small nutations about the steady precession at
         ``theta0`` with spin ``omega3`` and precession rate ``rate`` (one of
         :meth:`steady_precession`): ``(a - 2 rate cos theta0)^2 + rate^2 sin^2 theta0`` under the

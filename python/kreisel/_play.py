@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -10,6 +11,11 @@ from . import _atlas, _core
 from ._errors import ParameterError, ParameterTypeError
 from ._heavy import _vector
 from ._validate import real
+
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike, NDArray
+
+    from ._atlas import Classification, Prediction, RegularPrecession, StationaryMotion
 
 
 def _native_law(law, make) -> None:
@@ -27,7 +33,7 @@ class Coulomb:
     mu: float = 0.3
     _native: object = field(init=False, repr=False, compare=False)
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         _native_law(self, _core.Friction.coulomb)
 
     def __reduce__(self):  # the native law is made again, not pickled
@@ -41,7 +47,7 @@ class Viscous:
     mu: float = 1.0
     _native: object = field(init=False, repr=False, compare=False)
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         _native_law(self, _core.Friction.viscous)
 
     def __reduce__(self):
@@ -54,7 +60,7 @@ class Frictionless:
 
     _native: object = field(init=False, repr=False, compare=False)
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         object.__setattr__(self, "_native", _core.Friction.none())
 
     def __reduce__(self):
@@ -140,18 +146,18 @@ class PlayTop:
 
     def __init__(
         self,
-        m,
-        A,
-        C,
-        s,
-        rho,
-        g=9.81,
-        friction=None,
-        restitution=0.0,
-        rolling_resistance=0.0,
-        drilling_resistance=0.0,
-        air_drag=0.0,
-    ):
+        m: float,
+        A: float,
+        C: float,
+        s: float,
+        rho: float,
+        g: float = 9.81,
+        friction: Coulomb | Viscous | Frictionless | None = None,
+        restitution: float = 0.0,
+        rolling_resistance: float = 0.0,
+        drilling_resistance: float = 0.0,
+        air_drag: float = 0.0,
+    ) -> None:
         friction = Coulomb(0.3) if friction is None else friction
         if not isinstance(friction, (Coulomb, Viscous, Frictionless)):
             raise ParameterError(
@@ -229,15 +235,15 @@ class PlayTop:
 
     def state(
         self,
-        theta,
-        phi=0.0,
-        psi=0.0,
-        theta_dot=0.0,
-        phi_dot=0.0,
-        psi_dot=0.0,
-        vx=0.0,
-        vy=0.0,
-        height=None,
+        theta: float,
+        phi: float = 0.0,
+        psi: float = 0.0,
+        theta_dot: float = 0.0,
+        phi_dot: float = 0.0,
+        psi_dot: float = 0.0,
+        vx: float = 0.0,
+        vy: float = 0.0,
+        height: float | None = None,
     ) -> PlayState:
         """A state from Euler angles of e3 (z-x-z, rad) and their rates (rad/s), and the
         horizontal velocity of the centre of mass (m/s). In contact unless ``height`` (m, the
@@ -250,7 +256,14 @@ class PlayTop:
         h = None if height is None else real("height", height)
         return _state(self._native.state_from_euler(e, real("vx", vx), real("vy", vy), h))
 
-    def state_from_quaternion(self, q, omega, vx=0.0, vy=0.0, height=None) -> PlayState:
+    def state_from_quaternion(
+        self,
+        q: ArrayLike,
+        omega: ArrayLike,
+        vx: float = 0.0,
+        vy: float = 0.0,
+        height: float | None = None,
+    ) -> PlayState:
         """A state from a quaternion (w, x, y, z; normalised here) and the body angular
         velocity (rad/s); contact and ``height`` as in :meth:`state`."""
         qq = _vector("q", q, 4)
@@ -274,47 +287,47 @@ class PlayTop:
         """The flat numbers (q, omega, com, com_velocity) the core takes."""
         return [x for part in self._check(state) for x in part]
 
-    def jellett(self, state) -> float:
+    def jellett(self, state: PlayState) -> float:
         """Jellett's integral J = L.(s e3 + rho ez) (kg m^2/s)."""
         return self._native.invariants(self._check(state))[0]
 
-    def energy(self, state) -> float:
+    def energy(self, state: PlayState) -> float:
         """Total energy (J): translation + rotation + m g z_G."""
         return self._native.invariants(self._check(state))[1]
 
     # Stationary motions, stability and the atlas: thin wrappers of kreisel._atlas.
 
-    def J_R(self, u):
+    def J_R(self, u: ArrayLike) -> float | NDArray[np.float64]:
         """``J_R(u) = J_beta N(u)/sqrt(D(u))`` (kg m^2/s): the ``|J|`` of the regular precession at
         inclination ``u = cos(theta)``; nan where none exists. Vectorised over ``u``."""
         return _atlas.J_R(self, u)
 
-    def regular_precession(self, u):
+    def regular_precession(self, u: float) -> RegularPrecession:
         """The regular precession at ``u`` (a :class:`RegularPrecession`; ParameterError where
         none exists)."""
         return _atlas.regular_precession(self, u)
 
-    def stationary_motions(self, J):
+    def stationary_motions(self, J: float) -> list[StationaryMotion]:
         """Every stationary motion at Jellett integral ``J`` (kg m^2/s), by ascending u, each a
         :class:`StationaryMotion` with its stability."""
         return _atlas.stationary_motions(self, J)
 
-    def classify(self):
+    def classify(self) -> Classification:
         """Type (Ia, Ib, IIa, IIb), zone (1..8) and Fig. 3 area of this top
         (a :class:`Classification`)."""
         return _atlas.classify(self)
 
-    def predict(self, state):
+    def predict(self, state: PlayState) -> Prediction:
         """The stable stationary motions at this state's Jellett integral and the one it must
         end in where that is unique (a :class:`Prediction`)."""
         return _atlas.predict(self, state)
 
-    def frictionless_turning_points(self, state):
+    def frictionless_turning_points(self, state: PlayState) -> tuple[float, float]:
         """(theta_min, theta_max) (rad) of the frictionless motion from a contact state: the
         roots of the gyro function, that of the Lagrange top with I1 = A, I3 = C, l = s."""
         return _atlas.frictionless_turning_points(self, state)
 
-    def frictionless_nutation_period(self, state) -> float:
+    def frictionless_nutation_period(self, state: PlayState) -> float:
         """Nutation period (s) of the frictionless motion from a contact state:
         ``udot^2 = F(u) / (1 + (m s^2/A)(1 - u^2))``, so longer than the Lagrange top's."""
         return _atlas.frictionless_nutation_period(self, state)

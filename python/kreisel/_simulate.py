@@ -3,7 +3,9 @@
 from __future__ import annotations
 
 import functools
+from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any, Callable, Union, cast
 
 import numpy as np
 
@@ -12,6 +14,18 @@ from ._errors import ParameterError, ParameterTypeError
 from ._heavy import RigidState
 from ._trajectory import Deferred, Trajectory
 from ._validate import real, times
+
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike
+
+    from ._heavy import HeavyTop
+    from ._lagrange import LagrangeTop
+    from ._play import PlayState, PlayTop
+    from ._state import EulerState
+
+    #: a top :func:`simulate` integrates, and a state of it
+    Model = Union[HeavyTop, LagrangeTop, PlayTop]
+    State = Union[EulerState, RigidState, PlayState]
 
 
 @dataclass(frozen=True)
@@ -67,7 +81,15 @@ class Event:
 
     __slots__ = ("function", "name", "direction", "terminal", "_builtin")
 
-    def __init__(self, function, *, name=None, direction=0, terminal=False, _builtin=None):
+    def __init__(
+        self,
+        function: Callable[[float, RigidState], float] | None,
+        *,
+        name: str | None = None,
+        direction: int = 0,
+        terminal: bool = False,
+        _builtin: tuple[str, float] | None = None,
+    ) -> None:
         if function is None and _builtin is None:
             raise ParameterError("function = None is not allowed: give a callable")
         if function is not None and not callable(function):
@@ -75,7 +97,7 @@ class Event:
         if isinstance(direction, bool) or not isinstance(direction, (int, np.integer)):
             raise ParameterError(f"direction = {direction!r} is not allowed: use -1, 0 or +1")
         self.function = function
-        self.name = name or getattr(function, "__name__", "event")
+        self.name: str = cast(str, name or getattr(function, "__name__", "event"))
         self.direction = int(direction) if abs(direction) < 128 else 2
         self.terminal = bool(terminal)
         self._builtin = _builtin
@@ -93,7 +115,8 @@ def _native_event(ev: Event):
         return (ev.name, kind, None, value, ev.direction, ev.terminal)
 
     def call(t, q, w):
-        return float(ev.function(t, RigidState(np.asarray(q), np.asarray(w))))
+        fn = cast(Callable[..., float], ev.function)
+        return float(fn(t, RigidState(np.asarray(q), np.asarray(w))))
 
     return (ev.name, "user", call, 0.0, ev.direction, ev.terminal)
 
@@ -127,17 +150,17 @@ def native_model(model, name="model"):
 
 
 def simulate(
-    model,
-    state,
-    t_end,
+    model: Model,
+    state: State,
+    t_end: float,
     *,
-    method="dop853",
-    rtol=1e-10,
-    atol=1e-12,
-    dt=None,
-    t_eval=None,
-    events=None,
-    reduced=False,
+    method: str = "dop853",
+    rtol: float = 1e-10,
+    atol: float = 1e-12,
+    dt: float | None = None,
+    t_eval: ArrayLike | None = None,
+    events: Sequence[Event] | None = None,
+    reduced: bool = False,
 ) -> Trajectory:
     """Integrates the motion of a top from ``state`` (at t = 0) to ``t_end`` (s).
 
@@ -194,7 +217,7 @@ def simulate(
 
 
 @functools.cache
-def names() -> dict:
+def names() -> dict[str, Any]:
     """Every public name of the core: contact modes, kinds of motion, summaries (with units
     and descriptions) and run statuses."""
     return _core.names()

@@ -6,7 +6,7 @@ from ._simulate import Event
 from ._validate import real
 
 
-def turning_points(*, direction=0, terminal=False) -> Event:
+def turning_points(*, direction: int = 0, terminal: bool = False) -> Event:
     """Turning points of the nutation: theta_dot = 0. ``direction=+1`` selects minima of
     theta (theta_dot from - to +), ``-1`` maxima."""
     return Event(
@@ -18,7 +18,7 @@ def turning_points(*, direction=0, terminal=False) -> Event:
     )
 
 
-def theta_crossing(value, *, direction=0, terminal=False) -> Event:
+def theta_crossing(value: float, *, direction: int = 0, terminal: bool = False) -> Event:
     """theta crossing ``value`` (rad, in [0, pi]); ``direction=+1`` while theta increases.
     The range is the core's rule, checked when the event is made."""
     value = real("value", value)
@@ -31,7 +31,7 @@ def theta_crossing(value, *, direction=0, terminal=False) -> Event:
     )
 
 
-def inversion(level=0.9, *, terminal=False) -> Event:
+def inversion(level: float = 0.9, *, terminal: bool = False) -> Event:
     """Play top: u = cos(theta) rising through ``level`` (the top turning over)."""
     level = real("level", level)
     return Event(
@@ -39,6 +39,6 @@ def inversion(level=0.9, *, terminal=False) -> Event:
     )
 
 
-def rest(*, terminal=True) -> Event:
+def rest(*, terminal: bool = True) -> Event:
     """Play top: the kinetic energy falls below 1e-12 of its start (the top has stopped)."""
     return Event(None, name="rest", direction=-1, terminal=terminal, _builtin=("rest", 0.0))

@@ -17,10 +17,18 @@ results are finite, except the complete integrals at m = 1, where K and Pi are i
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING, Union
+
 import numpy as np
 
 from . import _core
 from ._validate import floats, real
+
+if TYPE_CHECKING:
+    from numpy.typing import ArrayLike, NDArray
+
+    #: a float for a scalar argument, else an array of its shape
+    FloatOrArray = Union[float, NDArray[np.float64]]
 
 
 def _apply(fn, x, name, *args):
@@ -31,7 +39,7 @@ def _apply(fn, x, name, *args):
     return out.reshape(arr.shape) if arr.ndim else float(out[0])
 
 
-def ellipj(u, m):
+def ellipj(u: ArrayLike, m: float) -> tuple[FloatOrArray, FloatOrArray, FloatOrArray, FloatOrArray]:
     """Jacobi elliptic functions (sn, cn, dn, am) of ``u`` for parameter ``m`` in [0, 1].
 
     The amplitude is continuous in u: am(u + 2K) = am(u) + pi. Method: arithmetic-geometric
@@ -40,18 +48,18 @@ def ellipj(u, m):
     return _apply(_core.ellipj, u, "u", real("m", m))
 
 
-def ellipk(m):
+def ellipk(m: float) -> float:
     """Complete elliptic integral of the first kind K(m), m <= 1 (infinite at m = 1)."""
     return _core.ellipk(real("m", m))
 
 
-def ellipf(phi, m):
+def ellipf(phi: ArrayLike, m: float) -> FloatOrArray:
     """Incomplete elliptic integral of the first kind F(phi | m); for m >= 1 only
     ``|phi| < asin(1/sqrt(m))``, where it is real and finite."""
     return _apply(_core.ellipf, phi, "phi", real("m", m))
 
 
-def ellippi(n, phi=None, m=None):
+def ellippi(n: float, phi: ArrayLike | None = None, m: float | None = None) -> FloatOrArray:
     """Elliptic integral of the third kind: ``ellippi(n, m)`` complete (m <= 1, infinite at
     m = 1) or ``ellippi(n, phi, m)`` incomplete (phi as for :func:`ellipf`); n != 1, the
     principal value where ``n sin^2 phi > 1``."""
@@ -63,7 +71,7 @@ def ellippi(n, phi=None, m=None):
     return _apply(lambda p, nn, mm: _core.ellippiinc(nn, p, mm), phi, "phi", n, m)
 
 
-def cubic_roots(c0, c1, c2, c3):
+def cubic_roots(c0: float, c1: float, c2: float, c3: float) -> tuple[float, ...]:
     """Real roots, ascending and with multiplicity, of ``c0 + c1 x + c2 x^2 + c3 x^3``, for
     finite coefficients of any size; ParameterError for the zero polynomial and where a root
     lies beyond the range of floats (it names the leading coefficient)."""

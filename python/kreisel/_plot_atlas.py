@@ -7,10 +7,17 @@ section 3. Every function draws into ``ax`` when given one and returns the axes.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING, Any, cast
+
 import numpy as np
 
 from . import _atlas
 from ._plot_base import _pyplot
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+
+    from ._play import PlayTop
 
 # One colour per zone (light enough for labels and curves on top).
 ZONE_COLOURS = {
@@ -128,7 +135,13 @@ def _small_alpha_panel(ax, pt, *, main):
         _mark_top(ax, pt, label=main)
 
 
-def atlas(pt=None, ax=None, *, small_alpha=False, inset=True):
+def atlas(
+    pt: PlayTop | None = None,
+    ax: Axes | None = None,
+    *,
+    small_alpha: bool = False,
+    inset: bool = True,
+) -> Axes:
     """The (alpha, gamma) plane of play tops: zones 1-8 shaded and labelled, every boundary
     curve drawn exactly, and ``pt`` (a PlayTop) marked.
 
@@ -172,7 +185,7 @@ def atlas(pt=None, ax=None, *, small_alpha=False, inset=True):
     ax.set_title("Play tops by the stability of their stationary motions: zones 1-8")
     ax.legend(loc="upper left", **legend)
     if inset:
-        ins = ax.inset_axes([0.6, 0.11, 0.38, 0.39])
+        ins = ax.inset_axes((0.6, 0.11, 0.38, 0.39))
         _small_alpha_panel(ins, pt, main=False)
         ins.set_xlabel(r"$\alpha$", fontsize=8, labelpad=1)
         ins.set_ylabel(r"$\gamma$", fontsize=8, labelpad=1)
@@ -182,7 +195,13 @@ def atlas(pt=None, ax=None, *, small_alpha=False, inset=True):
     return ax
 
 
-def vertical_axis_diagram(pt=None, ax=None, *, x_max=2.0, y_max=2.6):
+def vertical_axis_diagram(
+    pt: PlayTop | None = None,
+    ax: Axes | None = None,
+    *,
+    x_max: float = 2.0,
+    y_max: float = 2.6,
+) -> Axes:
     """Stability of spins about a vertical figure axis: C/A against h/rho, where h is the
     height of the centre of mass above the floor (upright: h/rho = 1 + alpha; hanging:
     1 - alpha). The line h/rho = 1 and the hyperbola h/rho = A/C split it into the areas of
@@ -229,7 +248,7 @@ def vertical_axis_diagram(pt=None, ax=None, *, x_max=2.0, y_max=2.6):
     return ax
 
 
-def J_R_plot(pt, J=None, ax=None, *, n=2001):
+def J_R_plot(pt: PlayTop, J: float | None = None, ax: Axes | None = None, *, n: int = 2001) -> Axes:
     """J_R(u)/J_beta, the ``|J|`` of the regular precession at each inclination u = cos(theta):
     stable branches (dJ_R/du > 0) solid, unstable dashed; J_R(+-1) and u_m marked; and, for
     a given J (kg m^2/s), the line ``|J|`` and its stationary motions, filled where stable:
@@ -254,7 +273,7 @@ def J_R_plot(pt, J=None, ax=None, *, n=2001):
         (stable, dict(color="C0", lw=2.0), "stable precessions"),
         (~stable, dict(color="C3", lw=2.0, ls="--"), "unstable precessions"),
     ):
-        ax.plot(u, np.where(mask, jr, np.nan), label=label, **style)
+        ax.plot(u, np.where(mask, jr, np.nan), label=label, **cast("dict[str, Any]", style))
     for x, name in ((-1.0, r"$J_R(-1)$"), (1.0, r"$J_R(1)$")):
         v = pt.J_R(x) / jb
         if np.isfinite(v):

@@ -2,10 +2,16 @@
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING, Any
+
 import numpy as np
 
 from ._errors import ParameterError
 from ._plot_base import _pyplot
+
+if TYPE_CHECKING:
+    import xarray as xr
+    from matplotlib.axes import Axes
 
 MODE_COLORS = {"slip": "#4477aa", "roll": "#228833", "flight": "#ccbb44", "error": "#ee6677"}
 LABELS = {
@@ -28,7 +34,15 @@ def _default_var(ds) -> str:
     return next(n for n in ds.data_vars if n != "status")
 
 
-def sweep(ds, var=None, ax=None, *, x=None, y=None, **select):
+def sweep(
+    ds: xr.Dataset,
+    var: str | None = None,
+    ax: Axes | None = None,
+    *,
+    x: str | None = None,
+    y: str | None = None,
+    **select: Any,
+) -> Axes:
     """A figure of one summary over the swept parameters.
 
     Two grid dimensions: a colour map over (x, y); one: a line; random samples: the samples
@@ -52,7 +66,7 @@ def sweep(ds, var=None, ax=None, *, x=None, y=None, **select):
         x = x or sampled[0]
         y = y or (sampled[1] if len(sampled) > 1 else None)
         dims.remove("sample")
-        show = []
+        show: list[Any] = []
     else:
         show = [d for d in (x, y) if d is not None] or dims[:2]
     fixed = {}
@@ -71,7 +85,7 @@ def sweep(ds, var=None, ax=None, *, x=None, y=None, **select):
         xs = ds[x].values
         ys = ds[y].values if y else np.zeros_like(xs)
         _points(ax, xs, ys, da.values, categorical)
-        ax.set_xlabel(LABELS.get(x, x))
+        ax.set_xlabel(LABELS.get(x, x))  # type: ignore[arg-type]  # x is set above
         ax.set_ylabel(LABELS.get(y, y) if y else "")
         return ax
     if len(show) == 1:

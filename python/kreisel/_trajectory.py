@@ -3,9 +3,13 @@
 from __future__ import annotations
 
 import html
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
+
+if TYPE_CHECKING:
+    import pandas as pd
+    import xarray as xr
 
 # Units and meanings of the columns kreisel's trajectories carry (SI; angles in rad).
 COLUMNS = {
@@ -134,7 +138,7 @@ class Trajectory:
                 out[key] = str(self._meta[key])
         return out
 
-    def to_xarray(self):
+    def to_xarray(self) -> xr.Dataset:
         """The trajectory as an :class:`xarray.Dataset` on the dimension ``t`` (s).
 
         2-D columns get a second dimension: ``component`` (w, x, y, z) for the quaternion,
@@ -166,7 +170,7 @@ class Trajectory:
                 coords[dim] = (dim, list(labels))
         return xr.Dataset(data, coords=coords, attrs=self._meta_attrs())
 
-    def to_pandas(self):
+    def to_pandas(self) -> pd.DataFrame:
         """The trajectory as a :class:`pandas.DataFrame` indexed by ``t`` (s); 2-D columns are
         split into one column each (``quaternion_w``, ``omega_1``, ``com_x``, ...). Needs
         pandas."""

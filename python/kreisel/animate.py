@@ -22,11 +22,24 @@ Every function imports matplotlib, imageio or plotly only when called.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any, cast
+from typing import TYPE_CHECKING, Any, Union, cast
 
 import numpy as np
 
 from ._errors import ParameterError
+
+if TYPE_CHECKING:
+    from collections.abc import Callable
+    from pathlib import Path
+
+    import plotly.graph_objects as go
+
+    from ._heavy import HeavyTop
+    from ._lagrange import LagrangeTop
+    from ._play import PlayTop
+    from ._trajectory import Trajectory
+
+    PathLike = Union[str, Path]
 
 _BODY = np.array([0.80, 0.30, 0.22])  # lacquered red
 _TIP = np.array([0.72, 0.74, 0.78])  # steel
@@ -94,7 +107,7 @@ def _toy_profile(length, radius):
     return z * s, r, tip, 1.9 * a * s
 
 
-def shape_of(model) -> Shape:
+def shape_of(model: HeavyTop | LagrangeTop | PlayTop) -> Shape:
     """The drawn shape of a LagrangeTop, HeavyTop or PlayTop."""
     from ._heavy import HeavyTop
     from ._lagrange import LagrangeTop
@@ -278,7 +291,14 @@ def _at(traj, model, t) -> Frames:
     return Frames(t, rot, origin, contact, np.asarray(traj.mode)[idx])
 
 
-def sample(traj, frames: int = 60, *, model=None, t_start=None, t_stop=None) -> Frames:
+def sample(
+    traj: Trajectory,
+    frames: int = 60,
+    *,
+    model: HeavyTop | LagrangeTop | PlayTop | None = None,
+    t_start: float | None = None,
+    t_stop: float | None = None,
+) -> Frames:
     """The trajectory at ``frames`` equally spaced times from ``t_start`` to ``t_stop`` (s;
     default: its whole span), with ``dense`` samples (up to 3000) for the traces."""
     frames = _check_frames(frames)
@@ -477,8 +497,18 @@ def _model_of(traj, model):
     return model
 
 
-def render(traj, *, frames=60, model=None, size_px=480, title=None, progress=None,
-           t_start=None, t_stop=None, trail=None):  # fmt: skip
+def render(
+    traj: Trajectory,
+    *,
+    frames: int = 60,
+    model: HeavyTop | LagrangeTop | PlayTop | None = None,
+    size_px: int = 480,
+    title: str | None = None,
+    progress: Callable[[int], object] | None = None,
+    t_start: float | None = None,
+    t_stop: float | None = None,
+    trail: float | None = None,
+) -> list[np.ndarray]:
     """The animation's frames as RGB images, a list of ``frames`` arrays (size_px, size_px, 3)
     of uint8.
 
@@ -524,7 +554,9 @@ def _check_fps(fps):
     return float(fps)
 
 
-def to_gif(traj, path, *, frames=60, fps=15, **kwargs):
+def to_gif(
+    traj: Trajectory, path: PathLike, *, frames: int = 60, fps: float = 15, **kwargs: Any
+) -> PathLike:
     """Writes the animation to a looping GIF at ``path`` (``fps`` frames per second); the
     keywords of :func:`render` apply. Returns the path."""
     import imageio.v3 as iio
@@ -535,7 +567,9 @@ def to_gif(traj, path, *, frames=60, fps=15, **kwargs):
     return path
 
 
-def to_mp4(traj, path, *, frames=60, fps=15, **kwargs):
+def to_mp4(
+    traj: Trajectory, path: PathLike, *, frames: int = 60, fps: float = 15, **kwargs: Any
+) -> PathLike:
     """Writes the animation to an H.264 MP4 at ``path`` with the ffmpeg that the
     ``imageio-ffmpeg`` package ships (no system install); keywords as :func:`render`.
     Returns the path."""
@@ -555,7 +589,16 @@ def to_mp4(traj, path, *, frames=60, fps=15, **kwargs):
     return path
 
 
-def figure(traj, *, frames=60, model=None, around=24, t_start=None, t_stop=None, title=None):
+def figure(
+    traj: Trajectory,
+    *,
+    frames: int = 60,
+    model: HeavyTop | LagrangeTop | PlayTop | None = None,
+    around: int = 24,
+    t_start: float | None = None,
+    t_stop: float | None = None,
+    title: str | None = None,
+) -> go.Figure:
     """An interactive plotly figure: the top as a 3D mesh, with a play button and a time
     slider over ``frames`` frames, and the trace of its axis (and the contact track of a play
     top). Rotate and zoom it with the mouse."""
@@ -682,7 +725,7 @@ def figure(traj, *, frames=60, model=None, around=24, t_start=None, t_stop=None,
     return fig
 
 
-def to_html(traj, path, *, frames=60, **kwargs):
+def to_html(traj: Trajectory, path: PathLike, *, frames: int = 60, **kwargs: Any) -> PathLike:
     """Writes the interactive view of :func:`figure` to a self-contained HTML file (plotly.js
     included: it opens offline). Returns the path."""
     fig = figure(traj, frames=frames, **kwargs)

@@ -5,21 +5,40 @@ Every function draws into ``ax`` when given one and returns the axes it drew int
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from ._plot_atlas import J_R_plot, atlas, vertical_axis_diagram  # noqa: F401
 from ._plot_base import _pyplot
 from ._plot_sweep import sweep  # noqa: F401
 
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+    from mpl_toolkits.mplot3d import Axes3D
+    from numpy.typing import ArrayLike, NDArray
 
-def figure_axis(theta, phi):
+    from ._lagrange import LagrangeTop
+    from ._state import EulerState
+    from ._trajectory import Trajectory
+
+
+def figure_axis(theta: ArrayLike, phi: ArrayLike) -> NDArray[np.float64]:
     """Unit figure axis e3 in the space frame from Euler angles (z-x-z), shape (n, 3)."""
     theta, phi = np.asarray(theta), np.asarray(phi)
     st = np.sin(theta)
     return np.stack([st * np.sin(phi), -st * np.cos(phi), np.cos(theta)], axis=-1)
 
 
-def axis_path_on_sphere(traj, ax=None, *, color="C0", label=None, sphere=True):
+def axis_path_on_sphere(
+    traj: Trajectory,
+    ax: Axes3D | None = None,
+    *,
+    color: str = "C0",
+    label: str | None = None,
+    sphere: bool = True,
+) -> Axes3D:
     """The path of the figure axis's tip on the unit sphere (3D axes).
 
     Parameters
@@ -58,7 +77,9 @@ def axis_path_on_sphere(traj, ax=None, *, color="C0", label=None, sphere=True):
     return ax
 
 
-def axis_path_plan(traj, ax=None, *, color="C0", label=None):
+def axis_path_plan(
+    traj: Trajectory, ax: Axes | None = None, *, color: str = "C0", label: str | None = None
+) -> Axes:
     """The path of the figure axis's tip seen from above: the unit sphere's (x, y) plane."""
     plt = _pyplot()
     if ax is None:
@@ -72,7 +93,9 @@ def axis_path_plan(traj, ax=None, *, color="C0", label=None):
     return ax
 
 
-def effective_potential(top, state, ax=None, *, n=800):
+def effective_potential(
+    top: LagrangeTop, state: EulerState, ax: Axes | None = None, *, n: int = 800
+) -> Axes:
     """The effective potential Veff(theta) (J) with the energy line and the turning points."""
     plt = _pyplot()
     if ax is None:
@@ -80,7 +103,7 @@ def effective_potential(top, state, ax=None, *, n=800):
     inv = top.invariants(state)
     tmin, tmax = top.turning_points(state)
     theta = np.linspace(1e-3, np.pi - 1e-3, n)
-    v = top.effective_potential(theta, inv.Mz, inv.M3)
+    v = np.asarray(top.effective_potential(theta, inv.Mz, inv.M3))
     lo = min(v.min(), inv.E)
     span = max(inv.E - v.min(), 1e-12)
     ax.plot(theta, v, color="C0", label=r"$V_\mathrm{eff}(\theta)$")
@@ -97,7 +120,7 @@ def effective_potential(top, state, ax=None, *, n=800):
 _MODE_COLOURS = {"slip": "#f3d9b1", "roll": "#cfe3f5", "flight": "#d9f0d3"}
 
 
-def shade_modes(ax, traj):
+def shade_modes(ax: Axes, traj: Trajectory) -> Axes:
     """Shades the contact modes (slip, roll, flight) of a play-top trajectory behind ``ax``."""
     t, mode = traj.t, traj.mode
     if len(t) == 0:
@@ -105,13 +128,14 @@ def shade_modes(ax, traj):
     start = 0
     for i in range(1, len(t) + 1):
         if i == len(t) or mode[i] != mode[start]:
-            ax.axvspan(t[start], t[min(i, len(t) - 1)], color=_MODE_COLOURS[str(mode[start])],
-                       lw=0, zorder=0)  # fmt: skip
+            end = float(t[min(i, len(t) - 1)])
+            ax.axvspan(float(t[start]), end, color=_MODE_COLOURS[str(mode[start])], lw=0,
+                       zorder=0)  # fmt: skip
             start = i
     return ax
 
 
-def play_time_series(traj, fig=None):
+def play_time_series(traj: Trajectory, fig: Figure | None = None) -> Figure:
     """u, normal force, slip speed, Jellett's integral and the energy over time for a
     play-top trajectory, with the contact modes shaded (slip tan, roll blue, flight green)."""
     plt = _pyplot()
@@ -148,7 +172,9 @@ def play_time_series(traj, fig=None):
 # -- rigid tops: time series, the (phi, theta) plane, invariants ---------------------------
 
 
-def euler_rates(traj):
+def euler_rates(
+    traj: Trajectory,
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
     """(theta_dot, phi_dot, psi_dot) in rad/s of a rigid-top trajectory: its own columns when
     it has them (exact Lagrange solution), else from the body angular velocity ``omega``.
 
@@ -183,7 +209,7 @@ def _potential(traj):
     return None
 
 
-def rigid_time_series(traj, fig=None):
+def rigid_time_series(traj: Trajectory, fig: Figure | None = None) -> Figure:
     """Four panels over time for a top on a pivot: theta (rad); the nutation and precession
     rates (rad/s); the spin rate psi_dot (rad/s); the energy and its potential and kinetic
     parts (J).
@@ -227,7 +253,14 @@ def rigid_time_series(traj, fig=None):
     return fig
 
 
-def axis_path_phi_theta(traj, ax=None, *, color="C0", label=None, turning_points=True):
+def axis_path_phi_theta(
+    traj: Trajectory,
+    ax: Axes | None = None,
+    *,
+    color: str = "C0",
+    label: str | None = None,
+    turning_points: bool = True,
+) -> Axes:
     """The path of the figure axis in the (phi, theta) plane: precession angle phi (rad,
     unwrapped) across, theta (rad) down, so that a more upright axis is higher, as on the
     sphere. Waves, cusps and loops show here as in the textbooks. For an exact Lagrange
@@ -251,7 +284,7 @@ def axis_path_phi_theta(traj, ax=None, *, color="C0", label=None, turning_points
     return ax
 
 
-def invariant_drift(traj, ax=None, *, floor=1e-17):
+def invariant_drift(traj: Trajectory, ax: Axes | None = None, *, floor: float = 1e-17) -> Axes:
     """Relative drift ``|X(t) - X(0)| / |X(0)|`` of the conserved quantities on a log scale
     (Mz and M3 against the angular momentum ``|L|`` when they start near zero):
     energy, Mz, M3 and Kovalevskaya's integral where the trajectory carries them (an exact
@@ -284,7 +317,7 @@ def invariant_drift(traj, ax=None, *, floor=1e-17):
 _TRACK_COLOURS = {"slip": "#c0701a", "roll": "#1f5fa8", "flight": "#2e8b3a"}
 
 
-def contact_track(traj, ax=None, *, unit="mm"):
+def contact_track(traj: Trajectory, ax: Axes | None = None, *, unit: str = "mm") -> Axes:
     """The contact point's track on the floor (top view) for a play-top trajectory, coloured by
     contact mode (slip orange, roll blue, flight green: the point below the tip), with the
     start and end marked and the centre of mass's track dashed. ``unit`` is "mm" or "m"."""

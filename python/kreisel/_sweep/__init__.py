@@ -35,7 +35,9 @@ depend on the chunking, the threads or the machines: local and Dask runs agree b
 from __future__ import annotations
 
 import shutil
+from collections.abc import Callable
 from contextlib import closing
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -45,6 +47,11 @@ from .run import compute_chunk
 from .schedule import DASK_ENV, _client, _Work, dask_command
 from .spec import SweepSpec, load_spec
 from .store import _create, _is_path, _open_existing, _Writer, open_sweep
+
+if TYPE_CHECKING:
+    import os
+
+    import xarray as xr
 
 # what the package, its command line and its tests take from here
 __all__ = [
@@ -75,17 +82,17 @@ def _tasks(sp: SweepSpec, todo: list, samples: dict, lanes: int = 1) -> list:
 
 
 def sweep(
-    spec,
-    store=None,
-    scheduler=None,
+    spec: SweepSpec | dict[str, Any] | str | os.PathLike[str],
+    store: str | os.PathLike[str] | Any | None = None,
+    scheduler: str | Any | None = None,
     *,
-    threads=None,
-    progress=True,
-    callback=None,
-    overwrite=False,
-    retry_failed=False,
-    connect_timeout=10.0,
-):
+    threads: int | None = None,
+    progress: bool = True,
+    callback: Callable[[int, int, int], object] | None = None,
+    overwrite: bool = False,
+    retry_failed: bool = False,
+    connect_timeout: float = 10.0,
+) -> xr.Dataset:
     """Runs a sweep and returns its results as an ``xarray.Dataset``.
 
     Parameters
@@ -115,6 +122,24 @@ def sweep(
         are dropped from ``run_errors`` as the chunks are rewritten.
     connect_timeout : float
         Seconds to wait for the scheduler.
+
+    Examples
+    --------
+    Three exact Lagrange tops, kept in memory (``store=None``; give a path to keep them):
+
+    >>> import kreisel
+    >>> ds = kreisel.sweep({
+    ...     "top": {"kind": "lagrange", "I1": 0.0125, "I3": 0.005, "m": 0.5, "l": 0.1},
+    ...     "state": {"psi_dot": 150.0},
+    ...     "simulation": {"exact": True},
+    ...     "grid": {"theta": [0.3, 0.5, 0.7]},
+    ... }, store=None, progress=False)
+    >>> ds["motion_kind"].values.tolist()
+    ['cusps', 'cusps', 'cusps']
+    >>> [round(float(x), 6) for x in ds["theta_max"].values]
+    [0.306651, 0.51076, 0.714403]
+    >>> ds["status"].values.tolist()
+    [1, 1, 1]
     """
     import zarr
     from tqdm.auto import tqdm

@@ -50,6 +50,18 @@ class SweepSpec:
     """A checked sweep: the fixed tables, the swept values and what to keep.
 
     Build one with :meth:`from_tables` (a dict of tables) or :meth:`from_toml` (a file).
+
+    Examples
+    --------
+    >>> from kreisel import SweepSpec
+    >>> spec = SweepSpec.from_tables({
+    ...     "top": {"kind": "lagrange", "I1": 0.0125, "I3": 0.005, "m": 0.5, "l": 0.1},
+    ...     "state": {"psi_dot": 150.0},
+    ...     "simulation": {"exact": True},
+    ...     "grid": {"theta": [0.3, 0.5, 0.7]},
+    ... })
+    >>> spec.kind, spec.dims, spec.shape, spec.n_chunks
+    ('lagrange', ('theta',), (3,), 1)
     """
 
     kind: str
@@ -70,7 +82,7 @@ class SweepSpec:
     # ----------------------------------------------------------------------------------
 
     @classmethod
-    def from_toml(cls, path) -> SweepSpec:
+    def from_toml(cls, path: str | os.PathLike[str]) -> SweepSpec:
         """The spec in a TOML file (path): the tables of :meth:`from_tables`."""
         return cls.from_tables(_config.read_toml(path), source=str(path))
 

@@ -5,10 +5,15 @@ from __future__ import annotations
 import json
 import os
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from .._errors import ParameterError
+
+if TYPE_CHECKING:
+    import xarray as xr
+
 from .spec import CATEGORIES, DESCRIPTIONS, MODE_ERROR, MODE_PENDING, SweepSpec
 
 FORMAT = "kreisel-sweep/1"
@@ -152,7 +157,7 @@ class _Writer:
         self.arrays["chunk_done"][k] = 1
 
 
-def open_sweep(store):
+def open_sweep(store: str | os.PathLike[str] | Any) -> xr.Dataset:
     """The results of a sweep store (complete or not) as an ``xarray.Dataset`` in memory:
     one variable per kept summary, ``final_mode`` as strings ("" where pending), ``status``
     (0 pending, 1 done, 2 failed), and the spec and run errors in the attributes."""

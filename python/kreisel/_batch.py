@@ -146,6 +146,15 @@ def simulate_many(
     Returns
     -------
     BatchSummary (play tops) or HeavyBatchSummary (heavy tops)
+
+    Examples
+    --------
+    >>> from kreisel import PlayTop, simulate_many
+    >>> pt = PlayTop(m=0.015, A=4e-6, C=5e-6, s=0.003, rho=0.015)
+    >>> states = [pt.state(theta=0.1, psi_dot=w) for w in (100.0, 150.0)]
+    >>> b = simulate_many(pt, states, 0.5)
+    >>> b.final_mode.tolist(), [round(float(u), 6) for u in b.final_u]
+    (['roll', 'roll'], [0.997299, 0.998387])
     """
     natives, flat = _natives(models, states)
     return _many(natives, flat, t_end, method, rtol, atol, dt, inversion_level, threads, progress)

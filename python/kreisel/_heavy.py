@@ -215,6 +215,15 @@ class HeavyTop(_Rigid):
     centre of mass on the 3-axis), ``"kovalevskaya"`` (I1 == I2 == 2 I3, centre of mass in the
     equatorial plane), else ``"general"`` (generically chaotic).
     Source: the project's PHYSICS notes, section 2.
+
+    Examples
+    --------
+    >>> top = HeavyTop(I1=1.0, I2=2.0, I3=3.0, m=1.0, com=[0.0, 0.0, 0.1])
+    >>> top.kind
+    'general'
+    >>> s = top.state(theta=0.3, psi_dot=5.0)
+    >>> {k: round(v, 6) for k, v in top.invariants(s).items()}
+    {'energy': 38.437185, 'Mz': 14.330047}
     """
 
     __slots__ = ("_I", "_m", "_com", "_g", "_native")

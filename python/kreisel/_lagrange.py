@@ -37,6 +37,23 @@ class LagrangeTop(_Rigid):
 
     Euler angles are z-x-z with theta from the upward vertical, so V = m g l cos(theta).
     Source: the seed ``lagrange-top.txt`` and the project's PHYSICS notes, section 1.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> top = LagrangeTop(I1=0.0125, I3=0.005, m=0.5, l=0.1)
+    >>> s = top.state(theta=0.5, psi_dot=150.0)
+    >>> s
+    EulerState(theta=0.5, phi=0.0, psi=0.0, theta_dot=0.0, phi_dot=0.0, psi_dot=150.0)
+    >>> inv = top.invariants(s)
+    >>> print(f"E = {inv.E:.6f} J, Mz = {inv.Mz:.6f}, M3 = {inv.M3:.6f} kg m^2/s")
+    E = 56.680454 J, Mz = 0.658187, M3 = 0.750000 kg m^2/s
+    >>> a = top.analyse(s)
+    >>> a.kind, round(a.theta_max, 6), round(a.nutation_period, 6)
+    ('cusps', 0.51076, 0.106773)
+    >>> traj = top.exact(s, np.linspace(0.0, 1.0, 5))
+    >>> np.round(traj.theta, 6).tolist()
+    [0.5, 0.508321, 0.507606, 0.500063, 0.508969]
     """
 
     __slots__ = ("_I1", "_I3", "_m", "_l", "_g", "_native")

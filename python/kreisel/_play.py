@@ -140,6 +140,15 @@ class PlayTop:
 
     Conventions: PHYSICS notes section 3 (u = 1 upright, alpha = s/rho, gamma = A/C,
     Jellett's J = L.(s e3 + rho ez)). Source: the seed ``play-top.txt``.
+
+    Examples
+    --------
+    >>> pt = PlayTop(m=0.015, A=4e-6, C=5e-6, s=0.003, rho=0.015)
+    >>> s = pt.state(theta=0.1, psi_dot=150.0)
+    >>> print(f"{pt.jellett(s):.6e} kg m^2/s")
+    1.344380e-05 kg m^2/s
+    >>> pt.classify()
+    Classification(type='IIb', zone=7, fig3='b')
     """
 
     __slots__ = ("_p", "_friction", "_native")

@@ -195,6 +195,19 @@ def simulate(
         ``com``, ``com_velocity``, ``u``, ``mode``, ``normal_force``, ``jellett``, ... .
         Attributes ``events`` (list of EventRecord), ``stats`` and ``status``
         (``"completed"``, ``"event"`` or ``"interrupted"``).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from kreisel import LagrangeTop, events, simulate
+    >>> top = LagrangeTop(I1=0.0125, I3=0.005, m=0.5, l=0.1)
+    >>> s = top.state(theta=0.5, psi_dot=150.0)
+    >>> traj = simulate(top, s, 1.0, t_eval=np.linspace(0.0, 1.0, 5))
+    >>> traj.status, np.round(traj.theta, 6).tolist()
+    ('completed', [0.5, 0.508321, 0.507606, 0.500063, 0.508969])
+    >>> traj = simulate(top, s, 1.0, events=[events.turning_points()])
+    >>> len(traj.events), round(traj.events[0].t, 6)
+    (18, 0.053387)
     """
     native, to_native = native_model(model)
     y0 = to_native(state)

@@ -8,7 +8,19 @@ from ._validate import real
 
 def turning_points(*, direction: int = 0, terminal: bool = False) -> Event:
     """Turning points of the nutation: theta_dot = 0. ``direction=+1`` selects minima of
-    theta (theta_dot from - to +), ``-1`` maxima."""
+    theta (theta_dot from - to +), ``-1`` maxima.
+
+    Examples
+    --------
+    >>> from kreisel import LagrangeTop, events, simulate
+    >>> top = LagrangeTop(I1=0.0125, I3=0.005, m=0.5, l=0.1)
+    >>> ev = events.turning_points(direction=-1)
+    >>> ev
+    Event('turning_point', direction=-1, terminal=False)
+    >>> traj = simulate(top, top.state(theta=0.5, psi_dot=150.0), 0.5, events=[ev])
+    >>> [round(e.t, 6) for e in traj.events[:3]]
+    [0.053387, 0.16016, 0.266933]
+    """
     return Event(
         None,
         name="turning_point",

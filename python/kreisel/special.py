@@ -44,12 +44,30 @@ def ellipj(u: ArrayLike, m: float) -> tuple[FloatOrArray, FloatOrArray, FloatOrA
 
     The amplitude is continuous in u: am(u + 2K) = am(u) + pi. Method: arithmetic-geometric
     mean and descending Landen transformation (Abramowitz and Stegun 16.4).
+
+    Examples
+    --------
+    >>> from kreisel.special import ellipj
+    >>> [round(x, 6) for x in ellipj(0.5, 0.3)]
+    [0.474216, 0.880409, 0.965679, 0.494073]
+    >>> sn, cn, dn, am = ellipj([0.0, 1.0], 0.5)
+    >>> sn.shape, round(float(sn[1] ** 2 + cn[1] ** 2), 12)
+    ((2,), 1.0)
     """
     return _apply(_core.ellipj, u, "u", real("m", m))
 
 
 def ellipk(m: float) -> float:
-    """Complete elliptic integral of the first kind K(m), m <= 1 (infinite at m = 1)."""
+    """Complete elliptic integral of the first kind K(m), m <= 1 (infinite at m = 1).
+
+    Examples
+    --------
+    >>> from kreisel.special import ellipk
+    >>> round(ellipk(0.0), 12), round(ellipk(0.5), 6)
+    (1.570796326795, 1.854075)
+    >>> ellipk(1.0)
+    inf
+    """
     return _core.ellipk(real("m", m))
 
 

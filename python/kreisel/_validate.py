@@ -10,7 +10,7 @@ import numpy as np
 from ._errors import ParameterError
 
 
-def real(name: str, value) -> float:
+def real(name: str, value: object) -> float:
     """``value`` as a finite Python float, or a ParameterError naming ``name``."""
     if type(value) is float and math.isfinite(value):
         return value  # the common case, without the checks against the numeric ABCs
@@ -22,7 +22,7 @@ def real(name: str, value) -> float:
     return x
 
 
-def floats(name: str, value) -> np.ndarray:
+def floats(name: str, value: object) -> np.ndarray:
     """``value`` as a float64 array of any shape (not checked further), or a ParameterError
     naming ``name`` where it is not numbers (a string, a complex number, a ragged list)."""
     try:
@@ -34,7 +34,7 @@ def floats(name: str, value) -> np.ndarray:
     return arr
 
 
-def times(name: str, value) -> np.ndarray:
+def times(name: str, value: object) -> np.ndarray:
     """``value`` as a contiguous 1-D float64 array of finite numbers (a scalar gives length 1)."""
     arr = floats(name, value)
     if arr.ndim == 0:

@@ -30,6 +30,16 @@ class RigidState:
         space frame.
     omega : ndarray, shape (3,)
         Angular velocity in the body frame (rad/s).
+
+    Examples
+    --------
+    >>> from kreisel import LagrangeTop
+    >>> top = LagrangeTop(I1=0.0125, I3=0.005, m=0.5, l=0.1)
+    >>> s = top.state_from_quaternion([1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 150.0])
+    >>> s.quaternion.tolist(), s.omega.tolist()
+    ([1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 150.0])
+    >>> s
+    RigidState(quaternion=[1, 0, 0, 0], omega=[0, 0, 150])
     """
 
     quaternion: np.ndarray = field(repr=False)
@@ -119,13 +129,29 @@ class _Rigid:
         phi_dot: float = 0.0,
         psi_dot: float = 0.0,
     ) -> EulerState:
-        """A state in Euler angles (z-x-z, rad) and their rates (rad/s); theta in [0, pi]."""
+        """A state in Euler angles (z-x-z, rad) and their rates (rad/s); theta in [0, pi].
+
+        Examples
+        --------
+        >>> from kreisel import HeavyTop
+        >>> top = HeavyTop(I1=1.0, I2=2.0, I3=3.0, m=1.0, com=[0.0, 0.0, 0.1])
+        >>> top.state(theta=0.3, psi_dot=5.0)
+        EulerState(theta=0.3, phi=0.0, psi=0.0, theta_dot=0.0, phi_dot=0.0, psi_dot=5.0)
+        """
         return euler_state(theta, phi, psi, theta_dot, phi_dot, psi_dot)
 
     def state_from_quaternion(self, q: ArrayLike, omega: ArrayLike) -> RigidState:
         """A state from a quaternion (w, x, y, z; normalised here, components of any finite
         size; not zero) and the body angular velocity ``omega`` (rad/s, shape (3,), each
-        component of magnitude at most 1e100)."""
+        component of magnitude at most 1e100).
+
+        Examples
+        --------
+        >>> from kreisel import HeavyTop
+        >>> top = HeavyTop(I1=1.0, I2=2.0, I3=3.0, m=1.0, com=[0.0, 0.0, 0.1])
+        >>> top.state_from_quaternion([2.0, 0.0, 0.0, 0.0], [0.0, 0.0, 5.0])
+        RigidState(quaternion=[1, 0, 0, 0], omega=[0, 0, 5])
+        """
         w = [_core.check_rate(f"omega[{i}]", x) for i, x in enumerate(_vector("omega", omega, 3))]
         qq, ww = self._heavy_native().check_rigid(_binary_scaled(_vector("q", q, 4)), w)
         return RigidState(np.array(qq), np.array(ww))
@@ -140,7 +166,16 @@ class _Rigid:
 
     def invariants(self, state: AnyRigidState) -> dict[str, float]:
         """``{"energy", "Mz"}`` and, where they are integrals, ``"M3"`` and
-        ``"kovalevskaya"``, of a state."""
+        ``"kovalevskaya"``, of a state.
+
+        Examples
+        --------
+        >>> from kreisel import HeavyTop
+        >>> top = HeavyTop(I1=2.0, I2=2.0, I3=1.0, m=1.0, com=[0.0, 0.0, 0.1])
+        >>> inv = top.invariants(top.state(theta=0.3, psi_dot=5.0))
+        >>> {k: round(v, 6) for k, v in inv.items()}
+        {'energy': 13.437185, 'Mz': 4.776682, 'M3': 5.0}
+        """
         s = rigid_state(state)
         out = dict(self._heavy_native().invariants(list(s.quaternion), list(s.omega)))
         for name, value in out.items():
@@ -171,6 +206,14 @@ class _Rigid:
         Positive for a chaotic top; for an integrable one (Euler, Lagrange, Kovalevskaya)
         separations grow linearly, so the running estimate decays like ln(t)/t. Returns the
         estimate at ``t_end`` and its history (``t``, ``running``) to judge convergence.
+
+        Examples
+        --------
+        >>> from kreisel import HeavyTop
+        >>> top = HeavyTop(I1=1.0, I2=2.0, I3=3.0, m=1.0, com=[0.0, 0.0, 0.1])
+        >>> est = top.lyapunov(top.state(theta=0.3, psi_dot=5.0), 2.0, tau=0.5)
+        >>> round(est.exponent, 6), est.t.tolist()
+        (0.24136, [0.5, 1.0, 1.5, 2.0])
         """
         s = rigid_state(state)
         out = self._heavy_native().lyapunov(

@@ -112,12 +112,28 @@ class LagrangeTop(_Rigid):
         Returns
         -------
         EulerState
+
+        Examples
+        --------
+        >>> from kreisel import LagrangeTop
+        >>> top = LagrangeTop(I1=0.0125, I3=0.005, m=0.5, l=0.1)
+        >>> top.state(theta=0.5, psi_dot=150.0)
+        EulerState(theta=0.5, phi=0.0, psi=0.0, theta_dot=0.0, phi_dot=0.0, psi_dot=150.0)
         """
         return euler_state(theta, phi, psi, theta_dot, phi_dot, psi_dot)
 
     def state_from_quaternion(self, q: ArrayLike, omega: ArrayLike) -> RigidState:
         """A state from a quaternion (w, x, y, z; normalised here) and the body angular
-        velocity ``omega`` (rad/s), for :func:`kreisel.simulate`."""
+        velocity ``omega`` (rad/s), for :func:`kreisel.simulate`.
+
+        Examples
+        --------
+        >>> from kreisel import LagrangeTop
+        >>> top = LagrangeTop(I1=0.0125, I3=0.005, m=0.5, l=0.1)
+        >>> s = top.state_from_quaternion([1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 150.0])
+        >>> s
+        RigidState(quaternion=[1, 0, 0, 0], omega=[0, 0, 150])
+        """
         return _Rigid.state_from_quaternion(self, q, omega)
 
     def _heavy_native(self):
@@ -132,7 +148,16 @@ class LagrangeTop(_Rigid):
         return state.as_tuple()
 
     def invariants(self, state: EulerState) -> Invariants:  # type: ignore[override]
-        """Energy E (J), vertical angular momentum Mz and axial M3 (kg m^2/s) of a state."""
+        """Energy E (J), vertical angular momentum Mz and axial M3 (kg m^2/s) of a state.
+
+        Examples
+        --------
+        >>> from kreisel import LagrangeTop
+        >>> top = LagrangeTop(I1=0.0125, I3=0.005, m=0.5, l=0.1)
+        >>> inv = top.invariants(top.state(theta=0.5, psi_dot=150.0))
+        >>> round(inv.E, 6), round(inv.Mz, 6), round(inv.M3, 6)
+        (56.680454, 0.658187, 0.75)
+        """
         return Invariants(*self._native.invariants(self._tuple(state)))
 
     def effective_potential(
@@ -143,6 +168,15 @@ class LagrangeTop(_Rigid):
         ``Veff = m g l cos(theta) + (Mz - M3 cos(theta))^2 / (2 I1 sin^2(theta)) + M3^2/(2 I3)``,
         so that ``E = I1 theta_dot^2 / 2 + Veff(theta)``. (The seed also subtracts
         ``M3^2/(2 I1)``; that term is wrong: it is absent from the energy.)
+
+        Examples
+        --------
+        >>> from kreisel import LagrangeTop
+        >>> top = LagrangeTop(I1=0.0125, I3=0.005, m=0.5, l=0.1)
+        >>> round(top.effective_potential(0.5, Mz=0.658187, M3=0.75), 6)
+        56.680454
+        >>> [round(float(v), 6) for v in top.effective_potential([0.4, 0.5, 0.6], 0.658187, 0.75)]
+        [56.982256, 56.680454, 56.847473]
         """
         Mz, M3 = real("Mz", Mz), real("M3", M3)
         arr = floats("theta", theta)
@@ -154,23 +188,57 @@ class LagrangeTop(_Rigid):
     # -- analysis of the motion from a state -----------------------------------------------
 
     def analyse(self, state: EulerState) -> NutationAnalysis:
-        """Kind of motion, turning points, nutation period and mean precession rate."""
+        """Kind of motion, turning points, nutation period and mean precession rate.
+
+        Examples
+        --------
+        >>> from kreisel import LagrangeTop
+        >>> top = LagrangeTop(I1=0.0125, I3=0.005, m=0.5, l=0.1)
+        >>> a = top.analyse(top.state(theta=0.5, psi_dot=150.0))
+        >>> a.kind, round(a.theta_min, 6), round(a.theta_max, 6), round(a.mean_precession_rate, 6)
+        ('cusps', 0.5, 0.51076, 0.66034)
+        """
         d = self._native.analyse(self._tuple(state))
         d.pop("segments")
         return NutationAnalysis(**d)
 
     def turning_points(self, state: EulerState) -> tuple[float, float]:
-        """(theta_min, theta_max): the nutation's turning points (rad)."""
+        """(theta_min, theta_max): the nutation's turning points (rad).
+
+        Examples
+        --------
+        >>> from kreisel import LagrangeTop
+        >>> top = LagrangeTop(I1=0.0125, I3=0.005, m=0.5, l=0.1)
+        >>> lo, hi = top.turning_points(top.state(theta=0.5, psi_dot=150.0))
+        >>> round(lo, 6), round(hi, 6)
+        (0.5, 0.51076)
+        """
         a = self.analyse(state)
         return (a.theta_min, a.theta_max)
 
     def nutation_period(self, state: EulerState) -> float:
         """Period of the nutation (s); ``inf`` on the separatrix. For a steady motion, the
-        limit period of small nutations about it."""
+        limit period of small nutations about it.
+
+        Examples
+        --------
+        >>> from kreisel import LagrangeTop
+        >>> top = LagrangeTop(I1=0.0125, I3=0.005, m=0.5, l=0.1)
+        >>> round(top.nutation_period(top.state(theta=0.5, psi_dot=150.0)), 6)
+        0.106773
+        """
         return self.analyse(state).nutation_period
 
     def mean_precession_rate(self, state: EulerState) -> float:
-        """Mean of phi_dot over a nutation period (rad/s)."""
+        """Mean of phi_dot over a nutation period (rad/s).
+
+        Examples
+        --------
+        >>> from kreisel import LagrangeTop
+        >>> top = LagrangeTop(I1=0.0125, I3=0.005, m=0.5, l=0.1)
+        >>> round(top.mean_precession_rate(top.state(theta=0.5, psi_dot=150.0)), 6)
+        0.66034
+        """
         return self.analyse(state).mean_precession_rate
 
     def motion_kind(self, state: EulerState) -> str:
@@ -178,7 +246,17 @@ class LagrangeTop(_Rigid):
         ``"regular_precession"``, ``"waves"`` (phi_dot never zero), ``"cusps"`` (phi_dot = 0 at
         a turning point), ``"loops"`` (phi_dot changes sign), ``"through_vertical"`` (the axis
         passes through the vertical: Mz = +-M3), ``"asymptotic"`` (the separatrix: the axis
-        creeps up to the vertical in infinite time)."""
+        creeps up to the vertical in infinite time).
+
+        Examples
+        --------
+        >>> from kreisel import LagrangeTop
+        >>> top = LagrangeTop(I1=0.0125, I3=0.005, m=0.5, l=0.1)
+        >>> top.motion_kind(top.state(theta=0.5, psi_dot=150.0))
+        'cusps'
+        >>> top.motion_kind(top.state(theta=0.5, phi_dot=2.0, psi_dot=150.0))
+        'loops'
+        """
         return self.analyse(state).kind
 
     def exact(self, state: EulerState, t: ArrayLike, *, direct: bool = False) -> Trajectory:
@@ -193,6 +271,17 @@ class LagrangeTop(_Rigid):
         incomplete elliptic integrals of the third kind; these are interpolated once per call
         to round-off, so each time costs tens of nanoseconds. ``direct=True`` evaluates the
         elliptic functions at every time instead (slow; for checks).
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from kreisel import LagrangeTop
+        >>> top = LagrangeTop(I1=0.0125, I3=0.005, m=0.5, l=0.1)
+        >>> traj = top.exact(top.state(theta=0.5, psi_dot=150.0), np.linspace(0.0, 0.1, 3))
+        >>> np.round(traj.theta, 6).tolist()
+        [0.5, 0.510655, 0.500426]
+        >>> traj.columns[:4]
+        ['t', 'theta', 'phi', 'psi']
         """
         ts = times("t", t)
         cols = dict(
@@ -215,6 +304,13 @@ class LagrangeTop(_Rigid):
         ``omega3 = psi_dot + phi_dot cos(theta)`` (rad/s), ascending; ``()`` when none exists.
 
         They solve ``m g l = Omega (I3 omega3 - I1 Omega cos(theta0))``.
+
+        Examples
+        --------
+        >>> from kreisel import LagrangeTop
+        >>> top = LagrangeTop(I1=0.0125, I3=0.005, m=0.5, l=0.1)
+        >>> [round(r, 6) for r in top.steady_precession(0.5, 150.0)]
+        [0.660379, 67.709257]
         """
         return tuple(self._native.steady_precession(real("theta0", theta0), real("omega3", omega3)))
 
@@ -222,12 +318,29 @@ class LagrangeTop(_Rigid):
         """Angular frequency (rad/s) of small nutations about the steady precession at
         ``theta0`` with spin ``omega3`` and precession rate ``rate`` (one of
         :meth:`steady_precession`): ``(a - 2 rate cos theta0)^2 + rate^2 sin^2 theta0`` under the
-        root, ``a = I3 omega3 / I1``."""
+        root, ``a = I3 omega3 / I1``.
+
+        Examples
+        --------
+        >>> from kreisel import LagrangeTop
+        >>> top = LagrangeTop(I1=0.0125, I3=0.005, m=0.5, l=0.1)
+        >>> slow, fast = top.steady_precession(0.5, 150.0)
+        >>> round(top.nutation_frequency(0.5, 150.0, slow), 6)
+        58.841778
+        """
         return self._native.nutation_frequency(
             real("theta0", theta0), real("omega3", omega3), real("rate", rate)
         )
 
     def sleeping_threshold(self) -> float:
         """Axial spin (rad/s) above which the upright spin is stable: ``sqrt(4 I1 m g l)/I3``
-        (``M3^2 > 4 I1 m g l``); 0 when ``m g l <= 0``."""
+        (``M3^2 > 4 I1 m g l``); 0 when ``m g l <= 0``.
+
+        Examples
+        --------
+        >>> from kreisel import LagrangeTop
+        >>> top = LagrangeTop(I1=0.0125, I3=0.005, m=0.5, l=0.1)
+        >>> round(top.sleeping_threshold(), 6)
+        31.32092
+        """
         return self._native.sleeping_threshold()

@@ -35,6 +35,14 @@ class RegularPrecession:
         Jellett's integral, ``J_R(u)`` (kg m^2/s).
     u : float
         Inclination ``cos(theta)``.
+
+    Examples
+    --------
+    >>> from kreisel import PlayTop
+    >>> pt = PlayTop(m=0.015, A=4e-6, C=5e-6, s=0.003, rho=0.015)
+    >>> rp = pt.regular_precession(0.5)
+    >>> type(rp).__name__, round(rp.u, 6), f"{rp.J:.6e}"
+    ('RegularPrecession', 0.5, '1.402435e-06')
     """
 
     Omega: float
@@ -64,6 +72,14 @@ class StationaryMotion:
         Axial spin ``Omega (u + alpha)`` (rad/s).
     energy : float
         Its energy V(u) (J).
+
+    Examples
+    --------
+    >>> from kreisel import PlayTop
+    >>> pt = PlayTop(m=0.015, A=4e-6, C=5e-6, s=0.003, rho=0.015)
+    >>> m = pt.stationary_motions(1.344380e-05)[-1]
+    >>> m.kind, m.u, m.stable, round(m.omega3, 6)
+    ('upright', 1.0, True, 149.375556)
     """
 
     kind: str
@@ -88,6 +104,13 @@ class Classification:
     fig3 : str
         Area of the vertical-axis diagram (the seed's Fig. 3): ``"a"`` (gamma >= 1 + alpha),
         ``"b"`` (gamma <= 1 - alpha) or ``"c"`` (in between: tippe tops).
+
+    Examples
+    --------
+    >>> from kreisel import PlayTop
+    >>> c = PlayTop(m=0.015, A=4e-6, C=5e-6, s=0.003, rho=0.015).classify()
+    >>> c.type, c.zone, c.fig3
+    ('IIb', 7, 'b')
     """
 
     type: str
@@ -109,6 +132,14 @@ class Prediction:
         The stable motion the top must end in, where exactly one is within reach: energy
         never increases and every state has ``E >= V(u)``, so u stays in the connected part
         of ``{u : V(u) <= E}`` that holds the state's u. None where two are within reach.
+
+    Examples
+    --------
+    >>> from kreisel import PlayTop
+    >>> pt = PlayTop(m=0.015, A=4e-6, C=5e-6, s=0.003, rho=0.015)
+    >>> p = pt.predict(pt.state(theta=0.1, psi_dot=150.0))
+    >>> f"{p.J:.6e}", len(p.stable), p.ending.kind
+    ('1.344380e-05', 2, 'upright')
     """
 
     J: float

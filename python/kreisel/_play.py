@@ -28,7 +28,16 @@ def _native_law(law, make) -> None:
 @dataclass(frozen=True)
 class Coulomb:
     """Coulomb friction: ``|F_t| = mu N`` against the slip while slipping; rolling without slip
-    while the needed force stays within ``|F_t| <= mu N`` (true stick-slip)."""
+    while the needed force stays within ``|F_t| <= mu N`` (true stick-slip).
+
+    Examples
+    --------
+    >>> from kreisel import Coulomb, PlayTop
+    >>> Coulomb(mu=0.2)
+    Coulomb(mu=0.2)
+    >>> PlayTop(m=0.015, A=4e-6, C=5e-6, s=0.003, rho=0.015, friction=Coulomb(0.2)).friction
+    Coulomb(mu=0.2)
+    """
 
     mu: float = 0.3
     _native: object = field(init=False, repr=False, compare=False)
@@ -42,7 +51,16 @@ class Coulomb:
 
 @dataclass(frozen=True)
 class Viscous:
-    """Viscous friction: tangential force -mu N v_T at the contact (mu in s/m)."""
+    """Viscous friction: tangential force -mu N v_T at the contact (mu in s/m).
+
+    Examples
+    --------
+    >>> from kreisel import PlayTop, Viscous
+    >>> Viscous(mu=0.5)
+    Viscous(mu=0.5)
+    >>> PlayTop(m=0.015, A=4e-6, C=5e-6, s=0.003, rho=0.015, friction=Viscous(0.5)).friction
+    Viscous(mu=0.5)
+    """
 
     mu: float = 1.0
     _native: object = field(init=False, repr=False, compare=False)
@@ -56,7 +74,15 @@ class Viscous:
 
 @dataclass(frozen=True)
 class Frictionless:
-    """No tangential force at the contact."""
+    """No tangential force at the contact.
+
+    Examples
+    --------
+    >>> from kreisel import Frictionless, PlayTop
+    >>> pt = PlayTop(m=0.015, A=4e-6, C=5e-6, s=0.003, rho=0.015, friction=Frictionless())
+    >>> pt.friction
+    Frictionless()
+    """
 
     _native: object = field(init=False, repr=False, compare=False)
 
@@ -82,6 +108,16 @@ class PlayState:
         Position of the centre of mass (m).
     com_velocity : ndarray (3,)
         Its velocity (m/s).
+
+    Examples
+    --------
+    >>> from kreisel import PlayTop
+    >>> pt = PlayTop(m=0.015, A=4e-6, C=5e-6, s=0.003, rho=0.015)
+    >>> s = pt.state(theta=0.0, psi_dot=150.0)
+    >>> s.quaternion.tolist(), s.omega.tolist()
+    ([1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 150.0])
+    >>> [round(float(x), 6) for x in s.com], s.com_velocity.tolist()
+    ([0.0, 0.0, 0.018], [0.0, 0.0, 0.0])
     """
 
     quaternion: np.ndarray = field(repr=False)
@@ -256,7 +292,18 @@ class PlayTop:
     ) -> PlayState:
         """A state from Euler angles of e3 (z-x-z, rad) and their rates (rad/s), and the
         horizontal velocity of the centre of mass (m/s). In contact unless ``height`` (m, the
-        gap between the tip and the floor, >= 0) is given: a dropped top."""
+        gap between the tip and the floor, >= 0) is given: a dropped top.
+
+        Examples
+        --------
+        >>> from kreisel import PlayTop
+        >>> pt = PlayTop(m=0.015, A=4e-6, C=5e-6, s=0.003, rho=0.015)
+        >>> s = pt.state(theta=0.1, psi_dot=150.0)
+        >>> [round(float(x), 6) for x in s.com]
+        [0.0, 0.0, 0.017985]
+        >>> round(float(pt.state(theta=0.1, height=0.01).com[2]), 6)
+        0.027985
+        """
         e = [
             real(k, v)
             for k, v in (("theta", theta), ("phi", phi), ("psi", psi), ("theta_dot", theta_dot),
@@ -274,7 +321,16 @@ class PlayTop:
         height: float | None = None,
     ) -> PlayState:
         """A state from a quaternion (w, x, y, z; normalised here) and the body angular
-        velocity (rad/s); contact and ``height`` as in :meth:`state`."""
+        velocity (rad/s); contact and ``height`` as in :meth:`state`.
+
+        Examples
+        --------
+        >>> from kreisel import PlayTop
+        >>> pt = PlayTop(m=0.015, A=4e-6, C=5e-6, s=0.003, rho=0.015)
+        >>> s = pt.state_from_quaternion([1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 150.0])
+        >>> s.omega.tolist(), [round(float(x), 6) for x in s.com]
+        ([0.0, 0.0, 150.0], [0.0, 0.0, 0.018])
+        """
         qq = _vector("q", q, 4)
         if not any(qq):
             raise ParameterError("q = [0, 0, 0, 0] is not allowed: a quaternion must be non-zero")
@@ -297,46 +353,125 @@ class PlayTop:
         return [x for part in self._check(state) for x in part]
 
     def jellett(self, state: PlayState) -> float:
-        """Jellett's integral J = L.(s e3 + rho ez) (kg m^2/s)."""
+        """Jellett's integral J = L.(s e3 + rho ez) (kg m^2/s).
+
+        Examples
+        --------
+        >>> from kreisel import PlayTop
+        >>> pt = PlayTop(m=0.015, A=4e-6, C=5e-6, s=0.003, rho=0.015)
+        >>> f"{pt.jellett(pt.state(theta=0.1, psi_dot=150.0)):.6e}"
+        '1.344380e-05'
+        """
         return self._native.invariants(self._check(state))[0]
 
     def energy(self, state: PlayState) -> float:
-        """Total energy (J): translation + rotation + m g z_G."""
+        """Total energy (J): translation + rotation + m g z_G.
+
+        Examples
+        --------
+        >>> from kreisel import PlayTop
+        >>> pt = PlayTop(m=0.015, A=4e-6, C=5e-6, s=0.003, rho=0.015)
+        >>> round(pt.energy(pt.state(theta=0.1, psi_dot=150.0)), 6)
+        0.058896
+        """
         return self._native.invariants(self._check(state))[1]
 
     # Stationary motions, stability and the atlas: thin wrappers of kreisel._atlas.
 
     def J_R(self, u: ArrayLike) -> float | NDArray[np.float64]:
         """``J_R(u) = J_beta N(u)/sqrt(D(u))`` (kg m^2/s): the ``|J|`` of the regular precession at
-        inclination ``u = cos(theta)``; nan where none exists. Vectorised over ``u``."""
+        inclination ``u = cos(theta)``; nan where none exists. Vectorised over ``u``.
+
+        Examples
+        --------
+        >>> from kreisel import PlayTop
+        >>> pt = PlayTop(m=0.015, A=4e-6, C=5e-6, s=0.003, rho=0.015)
+        >>> f"{pt.J_R(0.5):.6e}"
+        '1.402435e-06'
+        >>> [f"{x:.6e}" for x in pt.J_R([-0.5, 0.0, 0.5])]
+        ['1.537681e-06', '1.323675e-06', '1.402435e-06']
+        """
         return _atlas.J_R(self, u)
 
     def regular_precession(self, u: float) -> RegularPrecession:
         """The regular precession at ``u`` (a :class:`RegularPrecession`; ParameterError where
-        none exists)."""
+        none exists).
+
+        Examples
+        --------
+        >>> from kreisel import PlayTop
+        >>> pt = PlayTop(m=0.015, A=4e-6, C=5e-6, s=0.003, rho=0.015)
+        >>> rp = pt.regular_precession(0.5)
+        >>> round(rp.Omega, 6), round(rp.omega3, 6), round(rp.psi_dot, 6)
+        (17.155174, 12.008622, 3.431035)
+        """
         return _atlas.regular_precession(self, u)
 
     def stationary_motions(self, J: float) -> list[StationaryMotion]:
         """Every stationary motion at Jellett integral ``J`` (kg m^2/s), by ascending u, each a
-        :class:`StationaryMotion` with its stability."""
+        :class:`StationaryMotion` with its stability.
+
+        Examples
+        --------
+        >>> from kreisel import PlayTop
+        >>> pt = PlayTop(m=0.015, A=4e-6, C=5e-6, s=0.003, rho=0.015)
+        >>> [(m.kind, round(m.u, 6), m.stable) for m in pt.stationary_motions(1.344380e-05)]
+        [('hanging', -1.0, True), ('precession', -0.994372, False), ('upright', 1.0, True)]
+        """
         return _atlas.stationary_motions(self, J)
 
     def classify(self) -> Classification:
         """Type (Ia, Ib, IIa, IIb), zone (1..8) and Fig. 3 area of this top
-        (a :class:`Classification`)."""
+        (a :class:`Classification`).
+
+        Examples
+        --------
+        >>> from kreisel import PlayTop
+        >>> pt = PlayTop(m=0.015, A=4e-6, C=5e-6, s=0.003, rho=0.015)
+        >>> pt.classify()
+        Classification(type='IIb', zone=7, fig3='b')
+        >>> PlayTop(m=0.02, A=7e-6, C=6e-6, s=0.004, rho=0.015).classify()
+        Classification(type='Ia', zone=1, fig3='c')
+        """
         return _atlas.classify(self)
 
     def predict(self, state: PlayState) -> Prediction:
         """The stable stationary motions at this state's Jellett integral and the one it must
-        end in where that is unique (a :class:`Prediction`)."""
+        end in where that is unique (a :class:`Prediction`).
+
+        Examples
+        --------
+        >>> from kreisel import PlayTop
+        >>> pt = PlayTop(m=0.015, A=4e-6, C=5e-6, s=0.003, rho=0.015)
+        >>> p = pt.predict(pt.state(theta=0.1, psi_dot=150.0))
+        >>> [m.kind for m in p.stable], p.ending.kind, round(p.ending.u, 6)
+        (['hanging', 'upright'], 'upright', 1.0)
+        """
         return _atlas.predict(self, state)
 
     def frictionless_turning_points(self, state: PlayState) -> tuple[float, float]:
         """(theta_min, theta_max) (rad) of the frictionless motion from a contact state: the
-        roots of the gyro function, that of the Lagrange top with I1 = A, I3 = C, l = s."""
+        roots of the gyro function, that of the Lagrange top with I1 = A, I3 = C, l = s.
+
+        Examples
+        --------
+        >>> from kreisel import PlayTop
+        >>> pt = PlayTop(m=0.015, A=4e-6, C=5e-6, s=0.003, rho=0.015)
+        >>> lo, hi = pt.frictionless_turning_points(pt.state(theta=0.5, psi_dot=150.0))
+        >>> round(lo, 6), round(hi, 6)
+        (0.5, 0.503035)
+        """
         return _atlas.frictionless_turning_points(self, state)
 
     def frictionless_nutation_period(self, state: PlayState) -> float:
         """Nutation period (s) of the frictionless motion from a contact state:
-        ``udot^2 = F(u) / (1 + (m s^2/A)(1 - u^2))``, so longer than the Lagrange top's."""
+        ``udot^2 = F(u) / (1 + (m s^2/A)(1 - u^2))``, so longer than the Lagrange top's.
+
+        Examples
+        --------
+        >>> from kreisel import PlayTop
+        >>> pt = PlayTop(m=0.015, A=4e-6, C=5e-6, s=0.003, rho=0.015)
+        >>> round(pt.frictionless_nutation_period(pt.state(theta=0.5, psi_dot=150.0)), 6)
+        0.033827
+        """
         return _atlas.frictionless_nutation_period(self, state)

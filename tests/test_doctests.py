@@ -21,6 +21,7 @@ MODULES = [
     ("kreisel._simulate", True),
     ("kreisel._batch", True),
     ("kreisel._state", False),
+    ("kreisel._errors", True),
     ("kreisel._atlas", False),
     ("kreisel._trajectory", False),
     ("kreisel._sweep", True),

@@ -19,7 +19,16 @@ if TYPE_CHECKING:
 @dataclass(frozen=True)
 class BatchSummary:
     """Per-run summaries of :func:`simulate_many` for play tops, as arrays (one entry per
-    run). A failed run has NaN (mode ``"error"``, steps 0) and its message in ``errors``."""
+    run). A failed run has NaN (mode ``"error"``, steps 0) and its message in ``errors``.
+
+    Examples
+    --------
+    >>> from kreisel import PlayTop, simulate_many
+    >>> pt = PlayTop(m=0.015, A=4e-6, C=5e-6, s=0.003, rho=0.015)
+    >>> b = simulate_many(pt, [pt.state(theta=0.1, psi_dot=w) for w in (100.0, 150.0)], 0.05)
+    >>> len(b), b.final_mode.tolist(), b.errors
+    (2, ['roll', 'roll'], (None, None))
+    """
 
     final_u: np.ndarray
     final_mode: np.ndarray
@@ -41,7 +50,16 @@ class HeavyBatchSummary:
     ``energy_drift`` (largest ``|E - E0|`` relative to ``T0 + m g |c|``), ``Mz_drift`` and
     ``M3_drift`` (relative to ``|M0|``; M3 NaN unless the top is symmetric),
     ``kovalevskaya_drift`` (relative to ``|K0|``; NaN unless a Kovalevskaya top), ``steps``, and
-    ``errors`` (None for runs that went through)."""
+    ``errors`` (None for runs that went through).
+
+    Examples
+    --------
+    >>> from kreisel import LagrangeTop, simulate_many
+    >>> top = LagrangeTop(I1=0.0125, I3=0.005, m=0.5, l=0.1)
+    >>> b = simulate_many(top, [top.state(theta=th, psi_dot=150.0) for th in (0.3, 0.5)], 0.1)
+    >>> len(b), [round(float(x), 6) for x in b.theta_max], b.errors
+    (2, [0.306649, 0.510753], (None, None))
+    """
 
     final_theta: np.ndarray
     theta_min: np.ndarray

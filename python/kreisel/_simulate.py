@@ -30,7 +30,15 @@ if TYPE_CHECKING:
 
 @dataclass(frozen=True)
 class MethodInfo:
-    """What an integration method is and can do."""
+    """What an integration method is and can do.
+
+    Examples
+    --------
+    >>> from kreisel import methods
+    >>> info = {m.name: m for m in methods()}["splitting4"]
+    >>> info.order, info.adaptive, info.symplectic, info.events
+    (4, False, True, False)
+    """
 
     name: str
     order: int
@@ -56,7 +64,18 @@ def _methods_by_name() -> dict[str, MethodInfo]:
 class EventRecord:
     """An event that happened: its name, time (s) and index in the ``events`` list (-1 for
     the model's own events: a play top's contact switches ``lift_off``, ``touchdown``,
-    ``slip_to_roll`` and ``roll_to_slip``)."""
+    ``slip_to_roll`` and ``roll_to_slip``).
+
+    Examples
+    --------
+    >>> from kreisel import LagrangeTop, events, simulate
+    >>> top = LagrangeTop(I1=0.0125, I3=0.005, m=0.5, l=0.1)
+    >>> ev = events.turning_points()
+    >>> traj = simulate(top, top.state(theta=0.5, psi_dot=150.0), 0.1, events=[ev])
+    >>> rec = traj.events[0]
+    >>> rec.name, round(rec.t, 6), rec.index
+    ('turning_point', 0.053387, 0)
+    """
 
     name: str
     t: float
@@ -77,6 +96,18 @@ class Event:
         Only crossings from negative to positive (+1), positive to negative (-1), or both (0).
     terminal : bool
         Stop the simulation at the first such event.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from kreisel import Event, LagrangeTop, simulate
+    >>> top = LagrangeTop(I1=0.0125, I3=0.005, m=0.5, l=0.1)
+    >>> ev = Event(lambda t, s: s.omega[0], name="omega1_zero", direction=1)
+    >>> ev
+    Event('omega1_zero', direction=1, terminal=False)
+    >>> traj = simulate(top, top.state(theta=0.5, psi_dot=150.0), 0.1, events=[ev])
+    >>> [(e.name, round(e.t, 6)) for e in traj.events][:2]
+    [('omega1_zero', 0.03927), ('omega1_zero', 0.09163)]
     """
 
     __slots__ = ("function", "name", "direction", "terminal", "_builtin")

@@ -17,6 +17,15 @@ class EulerState:
         Precession and spin angles (rad).
     theta_dot, phi_dot, psi_dot : float
         Their rates (rad/s).
+
+    Examples
+    --------
+    >>> from kreisel import EulerState
+    >>> s = EulerState(theta=0.5, psi_dot=150.0)
+    >>> s
+    EulerState(theta=0.5, phi=0.0, psi=0.0, theta_dot=0.0, phi_dot=0.0, psi_dot=150.0)
+    >>> s.theta, s.psi_dot
+    (0.5, 150.0)
     """
 
     theta: float
@@ -27,13 +36,29 @@ class EulerState:
     psi_dot: float = 0.0
 
     def as_tuple(self) -> tuple[float, float, float, float, float, float]:
-        """(theta, phi, psi, theta_dot, phi_dot, psi_dot)."""
+        """(theta, phi, psi, theta_dot, phi_dot, psi_dot).
+
+        Examples
+        --------
+        >>> from kreisel import EulerState
+        >>> EulerState(theta=0.5, phi_dot=0.7, psi_dot=150.0).as_tuple()
+        (0.5, 0.0, 0.0, 0.0, 0.7, 150.0)
+        """
         return (self.theta, self.phi, self.psi, self.theta_dot, self.phi_dot, self.psi_dot)
 
 
 @dataclass(frozen=True)
 class Invariants:
-    """The integrals of a Lagrange top: energy E (J), Mz and M3 (kg m^2/s)."""
+    """The integrals of a Lagrange top: energy E (J), Mz and M3 (kg m^2/s).
+
+    Examples
+    --------
+    >>> from kreisel import LagrangeTop
+    >>> top = LagrangeTop(I1=0.0125, I3=0.005, m=0.5, l=0.1)
+    >>> inv = top.invariants(top.state(theta=0.5, psi_dot=150.0))
+    >>> print(f"E = {inv.E:.6f} J, Mz = {inv.Mz:.6f}, M3 = {inv.M3:.6f} kg m^2/s")
+    E = 56.680454 J, Mz = 0.658187, M3 = 0.750000 kg m^2/s
+    """
 
     E: float
     Mz: float
@@ -55,6 +80,14 @@ class NutationAnalysis:
         Period of theta (s); ``inf`` on the separatrix.
     mean_precession_rate : float
         Mean of phi_dot over a nutation period (rad/s).
+
+    Examples
+    --------
+    >>> from kreisel import LagrangeTop
+    >>> top = LagrangeTop(I1=0.0125, I3=0.005, m=0.5, l=0.1)
+    >>> a = top.analyse(top.state(theta=0.5, psi_dot=150.0))
+    >>> a.kind, round(a.nutation_period, 6), round(a.mean_precession_rate, 6)
+    ('cusps', 0.106773, 0.66034)
     """
 
     kind: str

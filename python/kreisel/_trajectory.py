@@ -71,6 +71,19 @@ class Trajectory:
     them. Angles are in radians, rates in rad/s, times in s. A column may be given as a
     :class:`Deferred` (the same object for every column it makes); it is computed when first
     read.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from kreisel import LagrangeTop
+    >>> top = LagrangeTop(I1=0.0125, I3=0.005, m=0.5, l=0.1)
+    >>> traj = top.exact(top.state(theta=0.5, psi_dot=150.0), np.linspace(0.0, 0.1, 3))
+    >>> len(traj), traj.columns[:4]
+    (3, ['t', 'theta', 'phi', 'psi'])
+    >>> np.round(traj["theta"], 6).tolist() == np.round(traj.theta, 6).tolist()
+    True
+    >>> [round(float(e), 6) for e in traj.energy]
+    [56.680454, 56.680454, 56.680454]
     """
 
     __slots__ = ("_cols", "_meta")
@@ -128,7 +141,18 @@ class Trajectory:
         return list(self._cols)
 
     def to_dict(self) -> dict[str, np.ndarray]:
-        """The columns as a dict of arrays."""
+        """The columns as a dict of arrays.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from kreisel import LagrangeTop
+        >>> top = LagrangeTop(I1=0.0125, I3=0.005, m=0.5, l=0.1)
+        >>> traj = top.exact(top.state(theta=0.5, psi_dot=150.0), np.linspace(0.0, 0.1, 3))
+        >>> d = traj.to_dict()
+        >>> sorted(d)[:4], np.round(d["theta"], 6).tolist()
+        (['M3', 'Mz', 'energy', 'phi'], [0.5, 0.510655, 0.500426])
+        """
         return self._all()
 
     def _meta_attrs(self) -> dict[str, str]:
@@ -145,6 +169,16 @@ class Trajectory:
         ``body_axis`` (1, 2, 3) for omega, ``space_axis`` (x, y, z) for positions and
         velocities. Every variable carries ``units`` and ``long_name``; the model, the state
         and the method are attributes of the dataset. Needs xarray (``pip install xarray``).
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from kreisel import LagrangeTop
+        >>> top = LagrangeTop(I1=0.0125, I3=0.005, m=0.5, l=0.1)
+        >>> traj = top.exact(top.state(theta=0.5, psi_dot=150.0), np.linspace(0.0, 0.1, 3))
+        >>> ds = traj.to_xarray()
+        >>> ds["theta"].attrs["units"], ds.sizes["t"], [round(float(x), 6) for x in ds["theta"]]
+        ('rad', 3, [0.5, 0.510655, 0.500426])
         """
         import xarray as xr
 
@@ -173,7 +207,18 @@ class Trajectory:
     def to_pandas(self) -> pd.DataFrame:
         """The trajectory as a :class:`pandas.DataFrame` indexed by ``t`` (s); 2-D columns are
         split into one column each (``quaternion_w``, ``omega_1``, ``com_x``, ...). Needs
-        pandas."""
+        pandas.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from kreisel import LagrangeTop
+        >>> top = LagrangeTop(I1=0.0125, I3=0.005, m=0.5, l=0.1)
+        >>> traj = top.exact(top.state(theta=0.5, psi_dot=150.0), np.linspace(0.0, 0.1, 3))
+        >>> df = traj.to_pandas()
+        >>> df.index.name, df.shape, [round(float(x), 6) for x in df["theta"]]
+        ('t', (3, 10), [0.5, 0.510655, 0.500426])
+        """
         import pandas as pd
 
         flat = {}

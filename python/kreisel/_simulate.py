@@ -50,7 +50,17 @@ class MethodInfo:
 
 @functools.cache
 def methods() -> tuple[MethodInfo, ...]:
-    """Every method :func:`simulate` knows, with its order and properties."""
+    """Every method :func:`simulate` knows, with its order and properties.
+
+    Examples
+    --------
+    >>> from kreisel import methods
+    >>> [m.name for m in methods()][:3]
+    ['dop853', 'rk4', 'splitting']
+    >>> m = methods()[0]
+    >>> m.name, m.order, m.adaptive
+    ('dop853', 8, True)
+    """
     # Cached: the list is fixed in the core, and simulate() consults it on every call.
     return tuple(MethodInfo(*m) for m in _core.methods())
 

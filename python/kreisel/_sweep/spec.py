@@ -83,13 +83,38 @@ class SweepSpec:
 
     @classmethod
     def from_toml(cls, path: str | os.PathLike[str]) -> SweepSpec:
-        """The spec in a TOML file (path): the tables of :meth:`from_tables`."""
+        """The spec in a TOML file (path): the tables of :meth:`from_tables`.
+
+        Examples
+        --------
+        >>> import pathlib, tempfile
+        >>> from kreisel import SweepSpec
+        >>> text = '[top]\\npreset = "cusps"\\n[simulation]\\nexact = true\\n'
+        >>> text += '[grid]\\ntheta = [0.3, 0.5]\\n'
+        >>> tmp = tempfile.TemporaryDirectory()
+        >>> path = pathlib.Path(tmp.name) / "sweep.toml"
+        >>> _ = path.write_text(text)
+        >>> spec = SweepSpec.from_toml(path)
+        >>> spec.kind, spec.dims, spec.shape
+        ('lagrange', ('theta',), (2,))
+        >>> tmp.cleanup()
+        """
         return cls.from_tables(_config.read_toml(path), source=str(path))
 
     @classmethod
     def from_tables(cls, tables: dict, *, source: str = "") -> SweepSpec:
         """The spec from its tables ``top``, ``state``, ``simulation``, ``grid``, ``random`` and
-        ``output`` (a dict of dicts); ``source`` names the file in error messages."""
+        ``output`` (a dict of dicts); ``source`` names the file in error messages.
+
+        Examples
+        --------
+        >>> from kreisel import SweepSpec
+        >>> top = {"kind": "lagrange", "I1": 0.0125, "I3": 0.005, "m": 0.5, "l": 0.1}
+        >>> grid = {"theta": [0.3, 0.5, 0.7], "psi_dot": [100.0, 150.0]}
+        >>> spec = SweepSpec.from_tables({"top": top, "simulation": {"exact": True}, "grid": grid})
+        >>> spec.dims, spec.shape, spec.size
+        (('theta', 'psi_dot'), (3, 2), 6)
+        """
         head = f"{source}: " if source else ""
         if not isinstance(tables, dict):
             raise ParameterError(f"{head}a sweep spec must be a table of tables")
@@ -300,14 +325,35 @@ class SweepSpec:
         return int(np.prod(self.chunk_grid, dtype=np.int64))
 
     def chunk_slices(self, k: int) -> tuple:
-        """The slices (one per dimension) of chunk ``k`` (C order over :attr:`chunk_grid`)."""
+        """The slices (one per dimension) of chunk ``k`` (C order over :attr:`chunk_grid`).
+
+        Examples
+        --------
+        >>> from kreisel import SweepSpec
+        >>> top = {"kind": "lagrange", "I1": 0.0125, "I3": 0.005, "m": 0.5, "l": 0.1}
+        >>> grid = {"theta": [0.1, 0.2, 0.3, 0.4, 0.5]}
+        >>> tables = {"top": top, "simulation": {"exact": True}, "grid": grid}
+        >>> spec = SweepSpec.from_tables({**tables, "output": {"chunk": 2}})
+        >>> spec.n_chunks, [(int(s.start), int(s.stop)) for s in spec.chunk_slices(2)]
+        (3, [(4, 5)])
+        """
         idx = np.unravel_index(k, self.chunk_grid)
         return tuple(
             slice(i * b, min((i + 1) * b, n)) for i, b, n in zip(idx, self.block, self.shape)
         )
 
     def random_values(self) -> dict:
-        """The random samples (drawn in the order given, from one generator)."""
+        """The random samples (drawn in the order given, from one generator).
+
+        Examples
+        --------
+        >>> from kreisel import SweepSpec
+        >>> top = {"kind": "lagrange", "I1": 0.0125, "I3": 0.005, "m": 0.5, "l": 0.1}
+        >>> rnd = {"n": 3, "seed": 1, "theta": {"low": 0.1, "high": 1.0}}
+        >>> spec = SweepSpec.from_tables({"top": top, "simulation": {"exact": True}, "random": rnd})
+        >>> spec.dims, [round(float(x), 6) for x in spec.random_values()["theta"]]
+        (('sample',), [0.560639, 0.955417, 0.229744])
+        """
         rng = np.random.default_rng(self.seed)
         out = {}
         for name, (lo, hi, scale) in self.random.items():
@@ -318,7 +364,17 @@ class SweepSpec:
         return out
 
     def chunk_values(self, k: int, samples: dict | None = None) -> dict:
-        """The swept values of every run of chunk ``k`` (C order within the block)."""
+        """The swept values of every run of chunk ``k`` (C order within the block).
+
+        Examples
+        --------
+        >>> from kreisel import SweepSpec
+        >>> top = {"kind": "lagrange", "I1": 0.0125, "I3": 0.005, "m": 0.5, "l": 0.1}
+        >>> grid = {"theta": [0.3, 0.5], "psi_dot": [100.0, 150.0]}
+        >>> spec = SweepSpec.from_tables({"top": top, "simulation": {"exact": True}, "grid": grid})
+        >>> {k: v.tolist() for k, v in spec.chunk_values(0).items()}
+        {'theta': [0.3, 0.3, 0.5, 0.5], 'psi_dot': [100.0, 150.0, 100.0, 150.0]}
+        """
         sl = self.chunk_slices(k)
         axes = [v[s] for v, s in zip(self.grid.values(), sl)]
         if self.random:
@@ -337,7 +393,17 @@ class SweepSpec:
     # ----------------------------------------------------------------------------------
 
     def as_dict(self) -> dict:
-        """Plain tables (lists, floats, strings) that rebuild this spec."""
+        """Plain tables (lists, floats, strings) that rebuild this spec.
+
+        Examples
+        --------
+        >>> from kreisel import SweepSpec
+        >>> top = {"kind": "lagrange", "I1": 0.0125, "I3": 0.005, "m": 0.5, "l": 0.1}
+        >>> tables = {"top": top, "simulation": {"exact": True}, "grid": {"theta": [0.3, 0.5]}}
+        >>> d = SweepSpec.from_tables(tables).as_dict()
+        >>> d["kind"], d["grid"], d["chunk"], d["keep"][:2]
+        ('lagrange', {'theta': [0.3, 0.5]}, 1024, ['motion_kind', 'theta_min'])
+        """
         return {
             "kind": self.kind,
             "top": _plain(self.top),
@@ -354,7 +420,18 @@ class SweepSpec:
         }
 
     def canonical(self) -> str:
-        """The spec as sorted JSON: two sweeps are the same sweep iff these are equal."""
+        """The spec as sorted JSON: two sweeps are the same sweep iff these are equal.
+
+        Examples
+        --------
+        >>> from kreisel import SweepSpec
+        >>> top = {"kind": "lagrange", "I1": 0.0125, "I3": 0.005, "m": 0.5, "l": 0.1}
+        >>> a = SweepSpec.from_tables({"top": top, "grid": {"theta": [0.3, 0.5]}})
+        >>> rev = dict(reversed(top.items()))
+        >>> b = SweepSpec.from_tables({"grid": {"theta": [0.3, 0.5]}, "top": rev})
+        >>> a.canonical() == b.canonical(), a.canonical()[:30]
+        (True, '{"chunk": 1024, "grid": {"thet')
+        """
         return json.dumps(self.as_dict(), sort_keys=True)
 
 

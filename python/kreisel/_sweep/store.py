@@ -160,7 +160,21 @@ class _Writer:
 def open_sweep(store: str | os.PathLike[str] | Any) -> xr.Dataset:
     """The results of a sweep store (complete or not) as an ``xarray.Dataset`` in memory:
     one variable per kept summary, ``final_mode`` as strings ("" where pending), ``status``
-    (0 pending, 1 done, 2 failed), and the spec and run errors in the attributes."""
+    (0 pending, 1 done, 2 failed), and the spec and run errors in the attributes.
+
+    Examples
+    --------
+    >>> import zarr
+    >>> import kreisel
+    >>> top = {"kind": "lagrange", "I1": 0.0125, "I3": 0.005, "m": 0.5, "l": 0.1}
+    >>> sim, grid = {"exact": True}, {"theta": [0.3, 0.5]}
+    >>> spec = {"top": top, "state": {"psi_dot": 150.0}, "simulation": sim, "grid": grid}
+    >>> store = zarr.storage.MemoryStore()
+    >>> _ = kreisel.sweep(spec, store, progress=False)
+    >>> ds = kreisel.open_sweep(store)
+    >>> ds["motion_kind"].values.tolist(), ds["status"].values.tolist(), ds.attrs["chunks_done"]
+    (['cusps', 'cusps'], [1, 1], 1)
+    """
     import xarray as xr
 
     root = _open_existing(store)

@@ -2,15 +2,19 @@
 
 Each public module is checked with ``doctest.testmod``; the modules that hold the main entry
 points (LagrangeTop, HeavyTop, PlayTop, simulate, simulate_many, events, special, SweepSpec,
-sweep) must have examples, so that they cannot silently disappear.
+sweep) must have examples, so that they cannot silently disappear; and every public class,
+function and method of ``kreisel.__all__`` has one of its own.
 """
 
 from __future__ import annotations
 
 import doctest
 import importlib
+import inspect
 
 import pytest
+
+import kreisel
 
 # (module, must it hold examples?)
 MODULES = [
@@ -43,3 +47,30 @@ def test_docstring_examples_run(name, has_examples):
     assert result.failed == 0, f"{result.failed} of {result.attempted} examples failed in {name}"
     if has_examples:
         assert result.attempted > 0, f"{name} has no docstring examples"
+
+
+def _public_callables():
+    """(name, object) of every class and function of ``kreisel.__all__`` and of the public
+    methods of those classes (inherited ones too: their docstrings are what users read)."""
+    for name in kreisel.__all__:
+        obj = getattr(kreisel, name)
+        if inspect.ismodule(obj) or not callable(obj):
+            continue
+        yield name, obj
+        if inspect.isclass(obj):
+            for attr, member in inspect.getmembers(obj):
+                if attr.startswith("_"):
+                    continue
+                if (
+                    inspect.isfunction(member)
+                    or inspect.ismethod(member)
+                    or callable(getattr(member, "__wrapped__", None))
+                ):
+                    yield f"{name}.{attr}", member
+
+
+def test_every_public_callable_has_an_example():
+    names = [n for n, _ in _public_callables()]
+    assert "LagrangeTop.exact" in names and "simulate" in names, names  # the walk finds them
+    missing = [n for n, obj in _public_callables() if ">>>" not in (inspect.getdoc(obj) or "")]
+    assert not missing, f"no >>> example in the docstring of {len(missing)}: {missing}"

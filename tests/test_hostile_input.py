@@ -69,11 +69,13 @@ def test_huge_amplitudes_give_the_integrals_of_so_many_periods(phi):
 
 
 def test_jacobi_functions_of_large_arguments_agree_with_mpmath_up_to_the_limit():
-    """Just inside 2^53 K(m) the reduction by the half period is still exact enough: the
-    functions match mpmath's (at 60 digits) to the digits the argument's place keeps."""
+    """Inside 2^53 K(m) the reduction by the half period is exact enough: the functions match
+    mpmath's (at 60 digits) to the digits the argument's place keeps; at the limit itself they
+    are still Jacobi functions (sn^2 + cn^2 = 1, dn^2 + m sn^2 = 1)."""
     m = 0.5
     k = float(mpmath.ellipk(m))
-    for u in (1e6, 1e10, 0.9 * 2.0**53 * k):
+    # (at 0.9 * 2^53 K the tolerance below would exceed 1 and test nothing: up to 1e13)
+    for u in (1e6, 1e10, 1e13):
         sn, cn, dn, _ = special.ellipj(u, m)
         with mpmath.workdps(60):
             ref = [float(f(mpmath.mpf(u), m)) for f in (mpmath.ellipfun("sn"),
@@ -82,6 +84,9 @@ def test_jacobi_functions_of_large_arguments_agree_with_mpmath_up_to_the_limit()
         tol = max(1e-12, 8 * u * 2.0**-52 / k)
         for got, want in zip((sn, cn, dn), ref):
             assert abs(got - want) <= tol, (u, got, want, tol)
+    sn, cn, dn, _ = special.ellipj(0.9 * 2.0**53 * k, m)
+    assert sn * sn + cn * cn == pytest.approx(1.0, abs=1e-15)
+    assert dn * dn + m * sn * sn == pytest.approx(1.0, abs=1e-15)
 
 
 def test_the_complete_integrals_reject_m_above_one_and_nan():

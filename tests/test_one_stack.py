@@ -227,3 +227,19 @@ def test_every_column_of_every_model_has_a_unit():
         for name in ds.data_vars:
             assert ds[name].attrs.get("long_name") != name or name == "mode", name
             assert "units" in ds[name].attrs, name
+
+
+def test_a_contact_starting_with_a_slip_below_the_tolerance_rolls_instead_of_chattering():
+    """The rule of the touchdown fix (issue 19 item 2) is the contact's, for every way into a
+    slip phase: a start state whose slip lies between the start threshold (1e-12 of the
+    speed scale) and the slip tolerance (1e-9 of it at rtol 1e-10) would start a slip phase
+    whose slip_to_roll event never fires. It rolls, and the energy balance holds."""
+    pt = kreisel.PlayTop(0.02, 2.56e-6, 3.2e-6, 0.006, 0.02, friction=kreisel.Coulomb(0.5))
+    slip = kreisel.simulate(pt, pt.state(0.3, psi_dot=100.0), 0.0).slip_velocity[0]
+    st = pt.state(0.3, psi_dot=100.0, vx=-slip[0] + 1e-10, vy=-slip[1])
+    start = time.perf_counter()
+    traj = kreisel.simulate(pt, st, 0.2)
+    assert time.perf_counter() - start < 5.0
+    assert traj.mode[0] == "roll" and traj.stats["steps"] < 1000
+    balance = traj.energy + traj.dissipated
+    assert abs(balance[-1] - balance[0]) < 1e-9 * balance[0]

@@ -185,13 +185,9 @@ def _many_raw(natives, flat, t_end, method, rtol, atol, dt, inversion_level, thr
     from ._simulate import _settings
 
     t_end, method, rtol, atol, dt, _ = _settings(t_end, method, rtol, atol, dt, [])
-    events = []
-    if natives and isinstance(natives[0], _core.PlayTop):
-        level = real("inversion_level", inversion_level)
-        events = [("inversion", "inversion", None, level, 1, False)]
     return _in_pieces(
-        _core.many, progress, natives, flat, t_end, method, rtol, atol, dt, events,
-        _threads(threads),
+        _core.many, progress, natives, flat, t_end, method, rtol, atol, dt,
+        real("inversion_level", inversion_level), _threads(threads),
     )  # fmt: skip
 
 

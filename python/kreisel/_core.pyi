@@ -138,7 +138,7 @@ def many(
     rtol: float,
     atol: float,
     dt: float | None = None,
-    events: Sequence[EventTuple] = ...,
+    inversion_level: float = 0.9,
     threads: int | None = None,
 ) -> dict[str, Any]: ...
 def names() -> dict[str, Any]: ...

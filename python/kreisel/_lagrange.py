@@ -8,7 +8,7 @@ import numpy as np
 
 from . import _core
 from ._errors import ParameterTypeError
-from ._heavy import RigidState, _Rigid, euler_state
+from ._heavy import _Rigid
 from ._state import EulerState, Invariants, NutationAnalysis
 from ._trajectory import Deferred, Trajectory
 from ._validate import floats, real, times
@@ -97,44 +97,6 @@ class LagrangeTop(_Rigid):
         return hash(repr(self))
 
     # -- states and invariants -------------------------------------------------------------
-
-    def state(
-        self,
-        theta: float,
-        phi: float = 0.0,
-        psi: float = 0.0,
-        theta_dot: float = 0.0,
-        phi_dot: float = 0.0,
-        psi_dot: float = 0.0,
-    ) -> EulerState:
-        """A state in Euler angles (rad) and rates (rad/s); theta in [0, pi].
-
-        Returns
-        -------
-        EulerState
-
-        Examples
-        --------
-        >>> from kreisel import LagrangeTop
-        >>> top = LagrangeTop(I1=0.0125, I3=0.005, m=0.5, l=0.1)
-        >>> top.state(theta=0.5, psi_dot=150.0)
-        EulerState(theta=0.5, phi=0.0, psi=0.0, theta_dot=0.0, phi_dot=0.0, psi_dot=150.0)
-        """
-        return euler_state(theta, phi, psi, theta_dot, phi_dot, psi_dot)
-
-    def state_from_quaternion(self, q: ArrayLike, omega: ArrayLike) -> RigidState:
-        """A state from a quaternion (w, x, y, z; normalised here) and the body angular
-        velocity ``omega`` (rad/s), for :func:`kreisel.simulate`.
-
-        Examples
-        --------
-        >>> from kreisel import LagrangeTop
-        >>> top = LagrangeTop(I1=0.0125, I3=0.005, m=0.5, l=0.1)
-        >>> s = top.state_from_quaternion([1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 150.0])
-        >>> s
-        RigidState(quaternion=[1, 0, 0, 0], omega=[0, 0, 150])
-        """
-        return _Rigid.state_from_quaternion(self, q, omega)
 
     def _heavy_native(self):
         """The same body as a native heavy top: I = (I1, I1, I3), centre of mass (0, 0, l)."""

@@ -408,9 +408,10 @@ fn summary_columns<'py, S>(
 }
 
 /// Many runs in parallel (the interpreter released): native models and flat states of
-/// equal length, one kind of model per call, each run summarised as it goes.
+/// equal length, one kind of model per call, each run summarised as it goes; play tops'
+/// inversion time is the first upward crossing of `inversion_level`.
 #[pyfunction]
-#[pyo3(signature = (models, states, t_end, method, rtol, atol, dt=None, events=Vec::new(), threads=None))]
+#[pyo3(signature = (models, states, t_end, method, rtol, atol, dt=None, inversion_level=0.9, threads=None))]
 #[allow(clippy::too_many_arguments)]
 pub fn many<'py>(
     py: Python<'py>,
@@ -421,7 +422,7 @@ pub fn many<'py>(
     rtol: f64,
     atol: f64,
     dt: Option<f64>,
-    events: Vec<EventTuple>,
+    inversion_level: f64,
     threads: Option<usize>,
 ) -> PyResult<Bound<'py, PyDict>> {
     if models.len() != states.len() {
@@ -431,7 +432,7 @@ pub fn many<'py>(
             states.len()
         )));
     }
-    let st = settings(t_end, method, rtol, atol, dt, None, &events, false)?;
+    let mut st = settings(t_end, method, rtol, atol, dt, None, &[], false)?;
     let natives: Vec<Native> = models.iter().map(native).collect::<PyResult<_>>()?;
     match natives.first() {
         Some(Native::Play(_)) | None if natives.iter().all(|m| matches!(m, Native::Play(_))) => {
@@ -443,6 +444,13 @@ pub fn many<'py>(
                     Native::Heavy(_) => unreachable!(),
                 })
                 .collect::<PyResult<_>>()?;
+            // A play top's summary has the time it first turns over past this level.
+            st.events.push(EventDef {
+                name: "inversion".into(),
+                kind: EventKind::Inversion(inversion_level),
+                direction: 1,
+                terminal: false,
+            });
             let res = py.detach(move || batch::many(&runs, &st, threads)).py(py)?;
             summary_columns(py, "play", &res, |s, k| s.get(k))
         }

@@ -62,11 +62,8 @@ def compute_chunk(spec: dict, values: dict, threads=None) -> dict:
                 out[name][i] = MOTION_KINDS.index(v) if name == "motion_kind" else v
             status[i] = 1
     elif models:
-        kw = dict(rtol=sim.get("rtol", 1e-10), atol=sim.get("atol", 1e-12), threads=threads)
-        if kind == "play":
-            kw["inversion_level"] = spec["inversion_level"]
-        else:
-            kw.update(method=sim.get("method", "dop853"), dt=sim.get("dt"))
+        kw = dict(rtol=sim.get("rtol", 1e-10), atol=sim.get("atol", 1e-12),
+                  method=sim.get("method", "dop853"), dt=sim.get("dt"))  # fmt: skip
         t_end = sim.get("t_end", _config.DEFAULT_T_END[kind])
         kept_here = [k for k in kept if k != "lyapunov"]
         res: Any = None
@@ -74,9 +71,8 @@ def compute_chunk(spec: dict, values: dict, threads=None) -> dict:
             # every model the same way: native models and flat states to the core's batch
             natives = [m._native_model() for m in models]
             flat = [_flat(m, st) for m, st in zip(models, states)]
-            res = _many_raw(natives, flat, t_end, kw.get("method", "dop853"), kw["rtol"],
-                            kw["atol"], kw.get("dt"), kw.get("inversion_level"), threads,
-                            False)  # fmt: skip
+            res = _many_raw(natives, flat, t_end, kw["method"], kw["rtol"], kw["atol"],
+                            kw["dt"], spec["inversion_level"], threads, False)  # fmt: skip
         idx = np.array(where)
         # a run fails if any of its computations does (the first message is kept)
         messages = [res["errors"]] if res is not None else []

@@ -61,9 +61,10 @@ pub struct Phase {
 }
 
 impl PlayTop {
-    /// The mode a state starts in, and the state put on its constraint.
-    pub fn initial_phase(&self, y: &mut [f64; DIM]) -> Phase {
-        let mode = self.initial_mode(y);
+    /// The mode a state starts in, and the state put on its constraint; `rtol` is the
+    /// integration's (it sets the [`PlayTop::slip_tolerance`]).
+    pub fn initial_phase(&self, y: &mut [f64; DIM], rtol: f64) -> Phase {
+        let mode = self.settle(self.initial_mode(y), y, rtol);
         self.project(mode, y);
         Phase {
             mode,
@@ -120,6 +121,26 @@ impl PlayTop {
                 mu * c.n - (c.ft[0] * c.ft[0] + c.ft[1] * c.ft[1]).sqrt()
             }
             Switch::Touchdown => self.height(y),
+        }
+    }
+
+    /// The mode a contact slides in, unless its slip is below the slip tolerance and rolling
+    /// can hold it: then it rolls (the sticking impulse applied to `y`). A slip phase that
+    /// starts below the tolerance would never see its slip_to_roll event, which watches the
+    /// speed falling through it, and Coulomb friction would chatter about zero slip in ever
+    /// smaller steps (an impact that does not quite stick leaves such a round-off slip; so
+    /// may a start state).
+    fn settle(&self, mode: Mode, y: &mut [f64; DIM], rtol: f64) -> Mode {
+        if mode != Mode::Slip || !matches!(self.friction, Friction::Coulomb { .. }) {
+            return mode;
+        }
+        let k = self.kin(y);
+        let sp = (k.v_t[0] * k.v_t[0] + k.v_t[1] * k.v_t[1]).sqrt();
+        if sp <= self.slip_tolerance(y, rtol) && self.roll_admissible(y).0 {
+            *y = self.stick(y);
+            Mode::Roll
+        } else {
+            mode
         }
     }
 
@@ -207,19 +228,7 @@ impl PlayTop {
                     mode = Mode::Flight;
                     hop = f64::INFINITY;
                 }
-                if mode == Mode::Slip && coulomb {
-                    // An impact that leaves a slip below the slip tolerance (round-off of an
-                    // impulse that did not quite stick) would start a slip phase whose
-                    // slip_to_roll event can never fire (it watches the speed falling
-                    // through the tolerance): Coulomb friction then chatters about zero slip
-                    // in ever smaller steps. Such a contact rolls, if rolling can hold it.
-                    let k = self.kin(y);
-                    let sp = (k.v_t[0] * k.v_t[0] + k.v_t[1] * k.v_t[1]).sqrt();
-                    if sp <= self.slip_tolerance(y, rtol) && self.roll_admissible(y).0 {
-                        *y = self.stick(y);
-                        mode = Mode::Roll;
-                    }
-                }
+                mode = self.settle(mode, y, rtol);
                 if mode != Mode::Flight {
                     let k = self.kin(y);
                     let sp = (k.v_t[0] * k.v_t[0] + k.v_t[1] * k.v_t[1]).sqrt();

@@ -74,7 +74,7 @@ impl Model for PlayTop {
         let t_end = settings.t_end;
         let mut info = RunInfo::default();
         let mut y = *y0;
-        let mut phase = top.initial_phase(&mut y);
+        let mut phase = top.initial_phase(&mut y, settings.rtol);
         let mut t = 0.0;
         let mut next_sample = 0usize;
         // Each inversion event fires once.

@@ -5,6 +5,7 @@ the stack's single check removes."""
 from __future__ import annotations
 
 import dataclasses
+import re
 import time
 
 import numpy as np
@@ -99,8 +100,9 @@ def test_the_core_names_every_mode_and_summary_the_python_layer_shows(tippe):
     assert set(np.unique(traj.mode)) <= set(names()["modes"])
     fields = {f["name"] for f in names()["summaries"] if f["default"]}
     play = kreisel.simulate_many(top, [st], 0.5)
+    # the core's per-part fields first_touchdown_time_<i> are one (runs, parts) array here
     assert {f.name for f in dataclasses.fields(play)} - {"errors"} == {
-        f["name"] for f in names()["summaries"] if f["model"] == "play"
+        re.sub(r"_\d$", "", f["name"]) for f in names()["summaries"] if f["model"] == "play"
     }
     lt = kreisel.LagrangeTop(1.75e-4, 2e-5, 0.1, 0.04)
     heavy = kreisel.simulate_many(lt, [lt.state(0.5, psi_dot=300.0)], 0.01)

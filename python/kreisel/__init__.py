@@ -15,7 +15,8 @@ from ._core import __version__
 from ._errors import KreiselError, NumericalError, ParameterError
 from ._heavy import HeavyTop, RigidState
 from ._lagrange import LagrangeTop
-from ._play import Coulomb, Frictionless, PlayState, PlayTop, Viscous
+from . import shapes
+from ._play import Coulomb, CoulombContensou, Frictionless, PlayState, PlayTop, Viscous
 from ._simulate import Event, EventRecord, MethodInfo, methods, simulate
 from ._state import EulerState, Invariants, NutationAnalysis
 from ._sweep import SweepSpec, open_sweep, sweep
@@ -25,6 +26,7 @@ __all__ = [
     "BatchSummary",
     "Classification",
     "Coulomb",
+    "CoulombContensou",
     "Event",
     "EventRecord",
     "EulerState",
@@ -50,6 +52,7 @@ __all__ = [
     "__version__",
     "events",
     "methods",
+    "shapes",
     "simulate",
     "simulate_many",
     "sweep",

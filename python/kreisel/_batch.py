@@ -37,6 +37,10 @@ class BatchSummary:
     energy_drift: np.ndarray
     errors: tuple
     steps: np.ndarray | None = None
+    #: The parts touching at the end, as a bit mask (bit i: part i of the top's ``shape``).
+    final_parts_in_contact: np.ndarray | None = None
+    #: Each part's first touchdown (s; NaN if none), shape (runs, 4): column i is part i.
+    first_touchdown_time: np.ndarray | None = None
 
     def __len__(self) -> int:
         return len(self.final_u)
@@ -202,6 +206,10 @@ def _many(natives, flat, t_end, method, rtol, atol, dt, inversion_level, threads
     if "final_mode" in out:
         modes = np.array([*names()["modes"], "error"])
         out["final_mode"] = modes[np.where(out["final_mode"] < 0, -1, out["final_mode"])]
+        touch = [out.pop(f"first_touchdown_time_{i}") for i in range(4)]
+        out["first_touchdown_time"] = np.stack(touch, axis=1)
+        parts = out.pop("final_parts_in_contact")
+        out["final_parts_in_contact"] = np.where(np.isnan(parts), -1, parts).astype(np.int64)
         return BatchSummary(**out, steps=steps, errors=errors)
     return HeavyBatchSummary(**out, steps=steps, errors=errors)
 

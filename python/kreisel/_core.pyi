@@ -65,6 +65,8 @@ class Friction:
     def viscous(mu: float) -> Friction: ...
     @staticmethod
     def none() -> Friction: ...
+    @staticmethod
+    def coulomb_contensou(mu: float, radius: float) -> Friction: ...
     @property
     def law(self) -> str: ...
     @property
@@ -98,6 +100,22 @@ class PlayTop:
         self, euler: Sequence[float], vx: float, vy: float, height: float | None = None
     ) -> Packed: ...
     def invariants(self, s: Packed) -> tuple[float, float]: ...
+    def invariants_parts(self, s: Packed) -> tuple[float, float]: ...
+    @staticmethod
+    def with_parts(
+        m: float,
+        a: float,
+        c: float,
+        parts: list[tuple[str, float, float]],
+        g: float,
+        friction: Friction,
+        restitution: float,
+        rolling: float,
+        drilling: float,
+        air: float,
+    ) -> PlayTop: ...
+    @property
+    def classic(self) -> bool: ...
 
 class Run:
     """The rows of a run of any model, kept natively; diagnostics on first read."""

@@ -11,6 +11,7 @@ from . import _atlas, _core
 from ._errors import ParameterError, ParameterTypeError
 from ._heavy import _vector
 from ._validate import real
+from .shapes import Sphere, _named
 
 if TYPE_CHECKING:
     from numpy.typing import ArrayLike, NDArray
@@ -94,6 +95,51 @@ class Frictionless:
 
 
 @dataclass(frozen=True)
+class CoulombContensou:
+    """Coulomb-Contensou friction: Coulomb friction over a circular contact patch of radius
+    ``radius`` (m), sliding and drilling sharing one budget through the elliptic force
+    reservoir ``|F|^2 + (M/Rbar)^2 <= (mu N)^2``, ``Rbar = 3 pi radius / 16`` (Leine & Glocker,
+    Eur. J. Mech. A/Solids 22 (2003) 193-216; PHYSICS notes 4.2). While the contact slides or
+    drills, ``F = -mu N v / D`` and ``M = -mu N Rbar^2 w_n / D`` with
+    ``D = sqrt(|v|^2 + Rbar^2 w_n^2)``: a spinning contact meets an almost viscous resistance to
+    a small slip. It sticks when neither sliding nor drilling, while force and torque stay in
+    the ellipse. ``radius = 0`` is :class:`Coulomb` (the same results, bit for bit). Applied at
+    every contact part; at impacts the friction impulse is Coulomb's (the patch's drilling
+    impulse, at most ``mu Rbar`` times the normal impulse, is left out).
+
+    Examples
+    --------
+    >>> from kreisel import CoulombContensou, PlayTop
+    >>> CoulombContensou(mu=0.3, radius=5e-4)
+    CoulombContensou(mu=0.3, radius=0.0005)
+    >>> PlayTop(m=6e-3, A=8e-7, C=7e-7, s=0.003, rho=0.015,
+    ...         friction=CoulombContensou(0.3, 5e-4)).friction.radius
+    0.0005
+    """
+
+    mu: float = 0.3
+    radius: float = 5e-4
+    _native: object = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        mu, radius = real("mu", self.mu), real("radius", self.radius)
+        object.__setattr__(self, "mu", mu)
+        object.__setattr__(self, "radius", radius)
+        object.__setattr__(self, "_native", _core.Friction.coulomb_contensou(mu, radius))
+
+    @property
+    def rbar(self) -> float:
+        """The effective patch radius ``3 pi radius / 16`` (m)."""
+        return 3.0 * np.pi * self.radius / 16.0
+
+    def __reduce__(self):
+        return (type(self), (self.mu, self.radius))
+
+
+_LAWS = (Coulomb, Viscous, Frictionless, CoulombContensou)
+
+
+@dataclass(frozen=True)
 class PlayState:
     """State of a play top.
 
@@ -148,7 +194,7 @@ def _state(packed) -> PlayState:
 
 
 class PlayTop:
-    """A symmetric top with a spherical tip on a horizontal plane.
+    """A symmetric top on a horizontal plane: a spherical tip, or any union of contact parts.
 
     Parameters
     ----------
@@ -164,8 +210,13 @@ class PlayTop:
         Radius of the tip sphere (m), > 0.
     g : float
         Gravitational acceleration (m/s^2).
-    friction : Coulomb, Viscous or Frictionless
-        Tangential force law at the contact.
+    friction : Coulomb, Viscous, Frictionless or CoulombContensou
+        Tangential force law at every contact.
+    shape : list of kreisel.shapes.Sphere, optional
+        The contact parts (between 1 and 4), instead of ``s`` and ``rho``: give exactly one
+        of the two. ``PlayTop(m, A, C, s, rho)`` means ``shape=[Sphere(rho, z=-s,
+        name="tip")]``. The atlas and the stationary motions use the first part, and need it
+        to be a sphere of positive radius at or below G (``z <= 0``).
     restitution : float
         Coefficient of restitution of impacts after a flight, in [0, 1].
     rolling_resistance, drilling_resistance : float
@@ -187,28 +238,41 @@ class PlayTop:
     Classification(type='IIb', zone=7, fig3='b')
     """
 
-    __slots__ = ("_p", "_friction", "_native")
+    __slots__ = ("_p", "_friction", "_native", "_shape", "_given_shape")
 
     def __init__(
         self,
         m: float,
         A: float,
         C: float,
-        s: float,
-        rho: float,
+        s: float | None = None,
+        rho: float | None = None,
         g: float = 9.81,
-        friction: Coulomb | Viscous | Frictionless | None = None,
+        friction: Coulomb | Viscous | Frictionless | CoulombContensou | None = None,
         restitution: float = 0.0,
         rolling_resistance: float = 0.0,
         drilling_resistance: float = 0.0,
         air_drag: float = 0.0,
+        shape: list[Sphere] | tuple[Sphere, ...] | None = None,
     ) -> None:
         friction = Coulomb(0.3) if friction is None else friction
-        if not isinstance(friction, (Coulomb, Viscous, Frictionless)):
+        if not isinstance(friction, _LAWS):
             raise ParameterError(
                 f"friction = {friction!r} is not allowed: use kreisel.Coulomb(mu), "
-                "kreisel.Viscous(mu) or kreisel.Frictionless()"
+                "kreisel.Viscous(mu), kreisel.Frictionless() or kreisel.CoulombContensou(mu, "
+                "radius)"
             )
+        if (shape is None) == (s is None and rho is None) or (
+            shape is None and (s is None or rho is None)
+        ):
+            raise ParameterError(
+                f"s = {s!r}, rho = {rho!r}, shape = {shape!r} is not allowed: give either s and "
+                "rho (a tip sphere) or shape (a list of parts), exactly one of the two"
+            )
+        parts = None if shape is None else _named(shape)
+        if parts is not None:
+            first = parts[0]
+            s, rho = (-first.z, first.radius) if first.radius > 0 and first.z <= 0 else (0.0, 0.0)
         p = dict(
             m=real("m", m),
             A=real("A", A),
@@ -221,10 +285,25 @@ class PlayTop:
             drilling_resistance=real("drilling_resistance", drilling_resistance),
             air_drag=real("air_drag", air_drag),
         )
-        self._native = _core.PlayTop(
-            p["m"], p["A"], p["C"], p["s"], p["rho"], p["g"], friction._native,  # type: ignore[arg-type]
-            p["restitution"], p["rolling_resistance"], p["drilling_resistance"], p["air_drag"],
-        )  # fmt: skip
+        rest = (p["restitution"], p["rolling_resistance"], p["drilling_resistance"], p["air_drag"])
+        if parts is None:
+            self._native = _core.PlayTop(
+                p["m"], p["A"], p["C"], p["s"], p["rho"], p["g"], friction._native, *rest,  # type: ignore[arg-type]
+            )  # fmt: skip
+            self._shape = (Sphere(p["rho"], -p["s"], "tip"),)
+        else:
+            try:
+                self._native = _core.PlayTop.with_parts(
+                    p["m"], p["A"], p["C"], [q._native() for q in parts], p["g"],
+                    friction._native, *rest,  # type: ignore[arg-type]
+                )  # fmt: skip
+            except ParameterError as e:
+                msg = str(e)
+                for i, q in enumerate(parts):
+                    msg = msg.replace(f"shape[{i}].", f"Sphere {q.name!r}: ")
+                raise ParameterError(msg) from None
+            self._shape = parts
+        self._given_shape = parts is not None
         self._p, self._friction = p, friction
 
     def __getattr__(self, name):
@@ -234,11 +313,32 @@ class PlayTop:
         raise AttributeError(f"PlayTop has no attribute {name!r}")
 
     friction = property(lambda self: self._friction, doc="The friction law.")
-    alpha = property(lambda self: self._native.alpha, doc="s / rho.")
+    shape = property(
+        lambda self: self._shape,
+        doc="The contact parts, each named (a tuple of kreisel.shapes.Sphere).",
+    )
+    part_names = property(
+        lambda self: tuple(q.name for q in self._shape), doc="The parts' names, in order."
+    )
+    alpha = property(lambda self: self._atlas_top()._native.alpha, doc="s / rho.")
     gamma = property(lambda self: self._native.gamma, doc="A / C.")
-    J_beta = property(lambda self: self._native.j_beta, doc="rho sqrt(C m g s) (kg m^2/s).")
+    J_beta = property(
+        lambda self: self._atlas_top()._native.j_beta, doc="rho sqrt(C m g s) (kg m^2/s)."
+    )
+
+    def _atlas_top(self) -> PlayTop:
+        """This top, where the one-sphere theory (atlas, stationary motions) applies to it: its
+        first part a sphere of positive radius at or below G; else a ParameterError."""
+        if self._p["rho"] > 0.0:
+            return self
+        first = self._shape[0]
+        raise ParameterError(
+            f"shape[0] = {first!r} is not allowed here: the atlas and the stationary motions "
+            "are the theory of a tip sphere, and need the first part to be a sphere of positive "
+            "radius at or below the centre of mass (z <= 0)"
+        )
     u_m = property(
-        lambda self: _atlas.u_m(self),
+        lambda self: _atlas.u_m(self._atlas_top()),
         doc="Where J_R(u) has its minimum on the real line; None for type I tops.",
     )
 
@@ -249,6 +349,11 @@ class PlayTop:
             for k in ("restitution", "rolling_resistance", "drilling_resistance", "air_drag")
             if p[k] != 0.0
         )
+        if self._given_shape:
+            return (
+                f"PlayTop(m={p['m']!r}, A={p['A']!r}, C={p['C']!r}, shape={list(self._shape)!r}, "
+                f"g={p['g']!r}, friction={self._friction!r}{extra})"
+            )
         return (
             f"PlayTop(m={p['m']!r}, A={p['A']!r}, C={p['C']!r}, s={p['s']!r}, "
             f"rho={p['rho']!r}, g={p['g']!r}, friction={self._friction!r}{extra})"
@@ -362,7 +467,7 @@ class PlayTop:
         >>> f"{pt.jellett(pt.state(theta=0.1, psi_dot=150.0)):.6e}"
         '1.344380e-05'
         """
-        return self._native.invariants(self._check(state))[0]
+        return self._invariants(state)[0]
 
     def energy(self, state: PlayState) -> float:
         """Total energy (J): translation + rotation + m g z_G.
@@ -374,7 +479,12 @@ class PlayTop:
         >>> round(pt.energy(pt.state(theta=0.1, psi_dot=150.0)), 6)
         0.058896
         """
-        return self._native.invariants(self._check(state))[1]
+        return self._invariants(state)[1]
+
+    def _invariants(self, state):
+        if self._native.classic:
+            return self._native.invariants(self._check(state))
+        return self._native.invariants_parts(self._check(state))
 
     # Stationary motions, stability and the atlas: thin wrappers of kreisel._atlas.
 
@@ -391,7 +501,7 @@ class PlayTop:
         >>> [f"{x:.6e}" for x in pt.J_R([-0.5, 0.0, 0.5])]
         ['1.537681e-06', '1.323675e-06', '1.402435e-06']
         """
-        return _atlas.J_R(self, u)
+        return _atlas.J_R(self._atlas_top(), u)
 
     def regular_precession(self, u: float) -> RegularPrecession:
         """The regular precession at ``u`` (a :class:`RegularPrecession`; ParameterError where
@@ -405,7 +515,7 @@ class PlayTop:
         >>> round(rp.Omega, 6), round(rp.omega3, 6), round(rp.psi_dot, 6)
         (17.155174, 12.008622, 3.431035)
         """
-        return _atlas.regular_precession(self, u)
+        return _atlas.regular_precession(self._atlas_top(), u)
 
     def stationary_motions(self, J: float) -> list[StationaryMotion]:
         """Every stationary motion at Jellett integral ``J`` (kg m^2/s), by ascending u, each a
@@ -418,7 +528,7 @@ class PlayTop:
         >>> [(m.kind, round(m.u, 6), m.stable) for m in pt.stationary_motions(1.344380e-05)]
         [('hanging', -1.0, True), ('precession', -0.994372, False), ('upright', 1.0, True)]
         """
-        return _atlas.stationary_motions(self, J)
+        return _atlas.stationary_motions(self._atlas_top(), J)
 
     def classify(self) -> Classification:
         """Type (Ia, Ib, IIa, IIb), zone (1..8) and Fig. 3 area of this top
@@ -433,7 +543,7 @@ class PlayTop:
         >>> PlayTop(m=0.02, A=7e-6, C=6e-6, s=0.004, rho=0.015).classify()
         Classification(type='Ia', zone=1, fig3='c')
         """
-        return _atlas.classify(self)
+        return _atlas.classify(self._atlas_top())
 
     def predict(self, state: PlayState) -> Prediction:
         """The stable stationary motions at this state's Jellett integral and the one it must
@@ -447,7 +557,7 @@ class PlayTop:
         >>> [m.kind for m in p.stable], p.ending.kind, round(p.ending.u, 6)
         (['hanging', 'upright'], 'upright', 1.0)
         """
-        return _atlas.predict(self, state)
+        return _atlas.predict(self._atlas_top(), state)
 
     def frictionless_turning_points(self, state: PlayState) -> tuple[float, float]:
         """(theta_min, theta_max) (rad) of the frictionless motion from a contact state: the
@@ -461,7 +571,7 @@ class PlayTop:
         >>> round(lo, 6), round(hi, 6)
         (0.5, 0.503035)
         """
-        return _atlas.frictionless_turning_points(self, state)
+        return _atlas.frictionless_turning_points(self._atlas_top(), state)
 
     def frictionless_nutation_period(self, state: PlayState) -> float:
         """Nutation period (s) of the frictionless motion from a contact state:
@@ -474,4 +584,4 @@ class PlayTop:
         >>> round(pt.frictionless_nutation_period(pt.state(theta=0.5, psi_dot=150.0)), 6)
         0.033827
         """
-        return _atlas.frictionless_nutation_period(self, state)
+        return _atlas.frictionless_nutation_period(self._atlas_top(), state)

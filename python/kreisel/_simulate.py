@@ -90,6 +90,7 @@ class EventRecord:
     name: str
     t: float
     index: int
+    part: str | None = None
 
 
 class Event:
@@ -259,15 +260,23 @@ def simulate(
         bool(reduced),
     )  # fmt: skip
     stats, status = out.pop("stats"), out.pop("status")
-    records = [EventRecord(name, t, index) for name, t, index in out.pop("events")]
+    names_of_parts = getattr(model, "part_names", None)
+    records = [
+        EventRecord(name, t, index, None if part < 0 or names_of_parts is None else names_of_parts[part])
+        for name, t, index, part in out.pop("events")
+    ]
     later = Deferred(out.pop("run").columns)
     cols = dict.fromkeys(out.pop("derived"), later)
     if "mode" in out:
         cols["mode"] = np.array(names()["modes"])[out.pop("mode")]
     cols.update(out)
+    meta: dict[str, Any] = {}
+    if names_of_parts is not None:
+        meta["part_names"] = names_of_parts
     return Trajectory(
-        cols, model=model, state=state, method=method, stats=stats, events=records, status=status
-    )
+        cols, model=model, state=state, method=method, stats=stats, events=records,
+        status=status, **meta,
+    )  # fmt: skip
 
 
 @functools.cache

@@ -40,7 +40,13 @@ COLUMNS = {
     "energy_rotation": ("J", "rotational kinetic energy"),
     "energy_potential": ("J", "potential energy m g z_G"),
     "potential": ("J", "potential energy m g z_G (pivot at z = 0)"),
+    "part_in_contact": ("", "whether each contact part touches the floor"),
+    "part_normal_force": ("N", "normal force at each contact part"),
+    "part_slip_velocity": ("m/s", "slip velocity (x, y) at each contact part"),
 }
+
+# Columns with one entry per contact part (second axis "part"; the third, if any, "horizontal").
+_PER_PART = ("part_in_contact", "part_normal_force", "part_slip_velocity")
 
 # Names of the second axis of 2-D columns.
 _COMPONENTS = {
@@ -191,6 +197,8 @@ class Trajectory:
             dims: tuple[str, ...]
             if col.ndim == 1:
                 dims = ("t",)
+            elif name in _PER_PART:
+                dims = ("t", "part", "horizontal_axis")[: col.ndim]
             else:
                 dims = ("t", _COMPONENTS.get(name, _SPACE)[0])
             if col.dtype.kind == "U":
@@ -199,7 +207,11 @@ class Trajectory:
             data[name] = xr.Variable(dims, col, attrs={"units": units, "long_name": meaning})
         coords: dict[str, Any] = {"t": ("t", t, {"units": "s", "long_name": "time"})}
         for name, col in self._all().items():
-            if np.ndim(col) == 2:
+            if name in _PER_PART:
+                coords["part"] = ("part", list(self._part_labels(np.shape(col)[1])))
+                if np.ndim(col) == 3:
+                    coords["horizontal_axis"] = ("horizontal_axis", ["x", "y"])
+            elif np.ndim(col) == 2:
                 dim, labels = _COMPONENTS.get(name, _SPACE)
                 coords[dim] = (dim, list(labels))
         return xr.Dataset(data, coords=coords, attrs=self._meta_attrs())
@@ -228,10 +240,21 @@ class Trajectory:
             col = np.asarray(col)
             if col.ndim == 1:
                 flat[name] = col
+            elif name in _PER_PART:
+                for j, part in enumerate(self._part_labels(col.shape[1])):
+                    if col.ndim == 2:
+                        flat[f"{name}_{part}"] = col[:, j]
+                    else:
+                        flat[f"{name}_{part}_x"] = col[:, j, 0]
+                        flat[f"{name}_{part}_y"] = col[:, j, 1]
             else:
                 for j, label in enumerate(_COMPONENTS.get(name, _SPACE)[1]):
                     flat[f"{name}_{label}"] = col[:, j]
         return pd.DataFrame(flat, index=pd.Index(self._cols["t"], name="t"))
+
+    def _part_labels(self, n: int) -> tuple[str, ...]:
+        names = self._meta.get("part_names")
+        return tuple(names) if names is not None else tuple(f"part{i}" for i in range(n))
 
     def _repr_html_(self) -> str:
         t = self._cols["t"]

@@ -2,7 +2,7 @@
 
 use crate::errors::IntoPyResult;
 use kreisel_core::models::lagrange::EulerState;
-use kreisel_core::models::play_top::{Friction, PlayTop, DIM};
+use kreisel_core::models::play_top::{Friction, PlayTop, Shape, DIM};
 use kreisel_core::rotation::{omega_body_from_euler, quaternion_from_euler, Quat};
 use pyo3::prelude::*;
 
@@ -24,6 +24,12 @@ impl PyFriction {
     #[staticmethod]
     fn viscous(py: Python<'_>, mu: f64) -> PyResult<Self> {
         let inner = Friction::Viscous { mu }.checked().py(py)?;
+        Ok(PyFriction { inner })
+    }
+    /// Coulomb-Contensou friction over a patch of radius `radius` (m, >= 0; 0 is Coulomb).
+    #[staticmethod]
+    fn coulomb_contensou(py: Python<'_>, mu: f64, radius: f64) -> PyResult<Self> {
+        let inner = Friction::coulomb_contensou(mu, radius).py(py)?;
         Ok(PyFriction { inner })
     }
     /// No tangential force.
@@ -96,6 +102,64 @@ impl PyPlayTop {
             inner: PlayTop::new(m, a, c, s, rho, g, fr, restitution, rolling, drilling, air)
                 .py(py)?,
         })
+    }
+
+    /// A play top of contact parts, each `("sphere", radius, z)`.
+    #[staticmethod]
+    #[allow(clippy::too_many_arguments)]
+    fn with_parts(
+        py: Python<'_>,
+        m: f64,
+        a: f64,
+        c: f64,
+        parts: Vec<(String, f64, f64)>,
+        g: f64,
+        friction: PyRef<'_, PyFriction>,
+        restitution: f64,
+        rolling: f64,
+        drilling: f64,
+        air: f64,
+    ) -> PyResult<Self> {
+        let shapes = parts
+            .iter()
+            .enumerate()
+            .map(|(i, (kind, x, z))| match kind.as_str() {
+                "sphere" => Ok(Shape::Sphere { radius: *x, z: *z }),
+                other => Err(pyo3::exceptions::PyValueError::new_err(format!(
+                    "shape[{i}] is a {other:?}: the parts known are \"sphere\""
+                ))),
+            })
+            .collect::<PyResult<Vec<_>>>()?;
+        let fr = friction.inner;
+        Ok(PyPlayTop {
+            inner: PlayTop::with_parts(
+                m,
+                a,
+                c,
+                &shapes,
+                g,
+                fr,
+                restitution,
+                rolling,
+                drilling,
+                air,
+            )
+            .py(py)?,
+        })
+    }
+
+    /// Whether the top runs on the one-sphere equations.
+    #[getter]
+    fn classic(&self) -> bool {
+        self.inner.is_classic()
+    }
+
+    /// Jellett's integral about the first part's lowest point and the energy of a packed
+    /// state, for any top.
+    fn invariants_parts(&self, s: Packed) -> (f64, f64) {
+        let y = pack(&s);
+        let (a, b, c) = self.inner.energy_parts(&y);
+        (self.inner.multi_jellett(&y), a + b + c)
     }
 
     #[getter]

@@ -258,6 +258,33 @@ impl PyRun {
                 d.set_item("energy_rotation", part(1).into_pyarray(py))?;
                 d.set_item("energy_potential", part(2).into_pyarray(py))?;
                 d.set_item("energy", total.into_pyarray(py))?;
+                // Per part: the first `parts.n` of each row.
+                let np = top.parts.n;
+                let n = c.part_in_contact.len();
+                let touch: Vec<bool> = c
+                    .part_in_contact
+                    .iter()
+                    .flat_map(|r| r[..np].iter().copied())
+                    .collect();
+                let force: Vec<f64> = c
+                    .part_normal_force
+                    .iter()
+                    .flat_map(|r| r[..np].iter().copied())
+                    .collect();
+                let slip: Vec<f64> = c
+                    .part_slip_velocity
+                    .iter()
+                    .flat_map(|r| r[..np].iter().flat_map(|v| v.iter().copied()))
+                    .collect();
+                d.set_item("part_in_contact", touch.into_pyarray(py).reshape([n, np])?)?;
+                d.set_item(
+                    "part_normal_force",
+                    force.into_pyarray(py).reshape([n, np])?,
+                )?;
+                d.set_item(
+                    "part_slip_velocity",
+                    slip.into_pyarray(py).reshape([n, np, 2])?,
+                )?;
             }
         }
         Ok(d)
@@ -268,7 +295,8 @@ fn info_into(py: Python<'_>, d: &Bound<'_, PyDict>, info: &RunInfo) -> PyResult<
     let events = PyList::empty(py);
     for e in &info.events {
         let index: i64 = e.index.map_or(-1, |i| i as i64);
-        events.append((e.name.as_ref(), e.t, index))?;
+        let part: i64 = e.part.map_or(-1, |i| i as i64);
+        events.append((e.name.as_ref(), e.t, index, part))?;
     }
     d.set_item("events", events)?;
     let stats = PyDict::new(py);

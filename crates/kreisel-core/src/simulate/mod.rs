@@ -372,6 +372,9 @@ pub struct EventRecord {
     pub name: Cow<'static, str>,
     /// Time (s).
     pub t: f64,
+    /// The contact part of a play top's contact switch (its position in the top's parts);
+    /// None for every other event.
+    pub part: Option<usize>,
 }
 
 /// What a run reports besides its rows.

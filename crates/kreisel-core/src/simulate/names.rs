@@ -60,7 +60,7 @@ const fn field(
 }
 
 /// Every summary, by model, in the order they are stored.
-pub const SUMMARY_FIELDS: [SummaryField; 20] = [
+pub const SUMMARY_FIELDS: [SummaryField; 25] = [
     field("play", "final_u", "1", "u = cos(theta) at the end"),
     SummaryField {
         category: "modes",
@@ -85,6 +85,36 @@ pub const SUMMARY_FIELDS: [SummaryField; 20] = [
         "largest relative change of the energy (E + dissipated for play tops)",
     ),
     field("play", "steps", "", "accepted steps"),
+    field(
+        "play",
+        "final_parts_in_contact",
+        "",
+        "the parts touching at the end, as a bit mask (bit i: part i; 0 in flight)",
+    ),
+    field(
+        "play",
+        "first_touchdown_time_0",
+        "s",
+        "first touchdown of part 0 (s), NaN if none",
+    ),
+    field(
+        "play",
+        "first_touchdown_time_1",
+        "s",
+        "first touchdown of part 1 (s), NaN if none",
+    ),
+    field(
+        "play",
+        "first_touchdown_time_2",
+        "s",
+        "first touchdown of part 2 (s), NaN if none",
+    ),
+    field(
+        "play",
+        "first_touchdown_time_3",
+        "s",
+        "first touchdown of part 3 (s), NaN if none",
+    ),
     field("heavy", "final_theta", "rad", "theta at the end (rad)"),
     field(
         "heavy",

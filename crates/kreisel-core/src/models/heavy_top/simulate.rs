@@ -286,6 +286,7 @@ fn run_ode<const N: usize, S: OdeSystem<N>>(
                 index: Some(i),
                 name: settings.events[i].name.clone().into(),
                 t,
+                part: None,
             })
             .collect(),
         status: if terminal {

@@ -356,7 +356,7 @@ impl PlayTop {
         let mut sticks = true;
         let mu = match self.friction {
             Friction::Coulomb { mu } => mu,
-            Friction::Viscous { .. } | Friction::Frictionless => 0.0,
+            _ => 0.0,
         };
         let pt = (p[0] * p[0] + p[1] * p[1]).sqrt();
         if matches!(self.friction, Friction::Coulomb { .. }) && pt <= mu * p[2] {

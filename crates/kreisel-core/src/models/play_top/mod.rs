@@ -19,7 +19,12 @@
 //!   columns and its summary.
 
 pub mod contact;
+pub mod hybrid;
+pub mod multi;
+pub mod shapes;
 pub mod simulate;
+
+pub use shapes::{Parts, Shape, MAX_PARTS};
 
 use crate::error::{
     finite, non_negative, positive, rate, repr, KreiselError, Result, PARAMETER_RANGE, RATE_MAX,
@@ -45,6 +50,16 @@ pub enum Friction {
     },
     /// No tangential force.
     Frictionless,
+    /// Coulomb-Contensou friction over a circular patch (PHYSICS.md 4.2, Leine & Glocker
+    /// 2003): sliding and drilling share the elliptic reservoir
+    /// `|F|^2 + (M / rbar)^2 <= (mu N)^2`, `rbar = 3 pi R / 16`. Built with `radius > 0` only
+    /// ([`Friction::coulomb_contensou`] makes radius 0 plain Coulomb).
+    CoulombContensou {
+        /// Friction coefficient.
+        mu: f64,
+        /// Radius R of the contact patch (m).
+        radius: f64,
+    },
 }
 
 impl Friction {
@@ -54,6 +69,36 @@ impl Friction {
             Friction::Coulomb { .. } => law::COULOMB,
             Friction::Viscous { .. } => law::VISCOUS,
             Friction::Frictionless => law::FRICTIONLESS,
+            Friction::CoulombContensou { .. } => law::CONTENSOU,
+        }
+    }
+
+    /// Coulomb-Contensou friction, checked; a patch of radius 0 is plain Coulomb (the same
+    /// value, so the same results bit for bit).
+    pub fn coulomb_contensou(mu: f64, radius: f64) -> Result<Friction> {
+        non_negative("mu", mu)?;
+        non_negative("radius", radius)?;
+        Ok(if radius == 0.0 {
+            Friction::Coulomb { mu }
+        } else {
+            Friction::CoulombContensou { mu, radius }
+        })
+    }
+
+    /// Whether the law can stick (Coulomb and Coulomb-Contensou).
+    pub const fn can_stick(&self) -> bool {
+        matches!(
+            self,
+            Friction::Coulomb { .. } | Friction::CoulombContensou { .. }
+        )
+    }
+
+    /// The effective patch radius `rbar = 3 pi R / 16` of Coulomb-Contensou friction (0 for
+    /// every other law).
+    pub fn rbar(&self) -> f64 {
+        match *self {
+            Friction::CoulombContensou { radius, .. } => 3.0 * std::f64::consts::PI * radius / 16.0,
+            _ => 0.0,
         }
     }
 
@@ -64,6 +109,9 @@ impl Friction {
                 non_negative("mu", mu)?;
             }
             Friction::Frictionless => {}
+            Friction::CoulombContensou { mu, radius } => {
+                return Friction::coulomb_contensou(mu, radius);
+            }
         }
         Ok(self)
     }
@@ -74,13 +122,16 @@ impl Friction {
             Friction::Coulomb { .. } => "coulomb",
             Friction::Viscous { .. } => "viscous",
             Friction::Frictionless => "none",
+            Friction::CoulombContensou { .. } => "coulomb_contensou",
         }
     }
 
     /// The coefficient mu (0 without friction).
     pub const fn mu(&self) -> f64 {
         match *self {
-            Friction::Coulomb { mu } | Friction::Viscous { mu } => mu,
+            Friction::Coulomb { mu }
+            | Friction::Viscous { mu }
+            | Friction::CoulombContensou { mu, .. } => mu,
             Friction::Frictionless => 0.0,
         }
     }
@@ -97,6 +148,8 @@ pub mod law {
     pub const VISCOUS: u8 = 2;
     /// [`super::Friction::Frictionless`].
     pub const FRICTIONLESS: u8 = 3;
+    /// [`super::Friction::CoulombContensou`].
+    pub const CONTENSOU: u8 = 4;
 }
 
 /// Contact mode.
@@ -167,6 +220,9 @@ pub struct PlayTop {
     pub drilling: f64,
     /// Air resistance: a torque -air omega (N m s).
     pub air: f64,
+    /// The contact parts (the tip sphere `Sphere { radius: rho, z: -s }` for a top built by
+    /// [`PlayTop::new`]).
+    pub parts: Parts,
 }
 
 /// Contact force and its parts at one state in one mode.
@@ -324,7 +380,58 @@ impl PlayTop {
             rolling,
             drilling,
             air,
+            parts: Parts::one(Shape::Sphere { radius: rho, z: -s }),
         })
+    }
+
+    /// A play top whose contact geometry is the union of `parts` (each checked, named
+    /// `shape[i]` in errors). `s` and `rho` are the first part's when it is a sphere below G
+    /// (what the atlas uses), else 0. A top of one sphere of positive radius whose centre
+    /// is not above G is the same value [`PlayTop::new`] builds.
+    #[allow(clippy::too_many_arguments)]
+    pub fn with_parts(
+        m: f64,
+        a: f64,
+        c: f64,
+        parts: &[Shape],
+        g: f64,
+        friction: Friction,
+        restitution: f64,
+        rolling: f64,
+        drilling: f64,
+        air: f64,
+    ) -> Result<Self> {
+        let parts = Parts::new(parts)?;
+        let (s, rho) = match parts.shape[0] {
+            Shape::Sphere { radius, z } if radius > 0.0 && z <= 0.0 => (-z, radius),
+            _ => (0.0, 0.0),
+        };
+        let rho_ok = if rho > 0.0 { rho } else { 1.0 };
+        let mut top = PlayTop::new(
+            m,
+            a,
+            c,
+            s,
+            rho_ok,
+            g,
+            friction,
+            restitution,
+            rolling,
+            drilling,
+            air,
+        )?;
+        top.rho = rho;
+        top.parts = parts;
+        Ok(top)
+    }
+
+    /// Whether the top runs on the one-sphere equations of this file (one spherical part of
+    /// positive radius below G, and a friction law other than Coulomb-Contensou); every other
+    /// top runs on the equations of several parts ([`multi`]).
+    pub fn is_classic(&self) -> bool {
+        self.parts.n == 1
+            && self.rho > 0.0
+            && !matches!(self.friction, Friction::CoulombContensou { .. })
     }
 
     /// alpha = s / rho.
@@ -422,23 +529,35 @@ impl PlayTop {
     /// part that is not.
     #[inline(always)]
     fn resistance(&self, k: &Kin) -> ([f64; 3], [f64; 3]) {
+        self.resistance_at(k.w, k.gamma, self.rho)
+    }
+
+    /// [`Self::resistance`] from the body angular velocity `w` and the upward vertical
+    /// `gamma` in the body frame; `len` sets the regularisation's rate scale.
+    #[inline(always)]
+    pub(crate) fn resistance_at(
+        &self,
+        w: [f64; 3],
+        gamma: [f64; 3],
+        len: f64,
+    ) -> ([f64; 3], [f64; 3]) {
         let mut per_n = [0.0; 3];
         if self.rolling > 0.0 || self.drilling > 0.0 {
             // Vertical and horizontal parts of omega, in the body frame.
-            let wz = dot(k.w, k.gamma);
-            let wh = add(k.w, scale(-wz, k.gamma));
+            let wz = dot(w, gamma);
+            let wh = add(w, scale(-wz, gamma));
             let h = dot(wh, wh).sqrt();
             // The sharp law down to reg ~ 1e-6 sqrt(g / rho), linear in the rate below it, so
             // the torque vanishes continuously as the rolling stops (a sharper switch makes the
             // equations stiff). Not h + reg: that would weaken the torque by reg / h at every
             // rate, and a ball rolling to a stop would take ln(h0 / h_end) reg / (dh/dt) longer.
-            let reg = 1e-6 * (self.g / self.rho).sqrt().max(1e-3);
+            let reg = 1e-6 * (self.g / len).sqrt().max(1e-3);
             per_n = add(
                 scale(-self.rolling / h.max(reg), wh),
-                scale(-self.drilling * wz / wz.abs().max(reg), k.gamma),
+                scale(-self.drilling * wz / wz.abs().max(reg), gamma),
             );
         }
-        (per_n, scale(-self.air, k.w))
+        (per_n, scale(-self.air, w))
     }
 
     /// The tangential force per unit N while slipping (space frame), by the friction law
@@ -689,6 +808,24 @@ impl PlayTop {
         y[10] = vx;
         y[11] = vy;
         let u = q.up_in_body()[2];
+        if !self.is_classic() {
+            // Several parts: the lowest part touches (or is `height` above the floor).
+            let k = self.mkin(&y);
+            y[9] = self.parts.resting_height(k.e3);
+            if let Some(h) = height {
+                self.check_height(h)?;
+                y[9] += h;
+            } else {
+                let lowest = self
+                    .parts
+                    .iter()
+                    .min_by(|a, b| a.gap(y[9], k.e3).total_cmp(&b.gap(y[9], k.e3)));
+                if let Some(p) = lowest {
+                    y[12] = -p.gap_rate(0.0, k.w, k.e3);
+                }
+            }
+            return Ok(y);
+        }
         match height {
             None => {
                 y[9] = self.rho + self.s * u;
@@ -696,18 +833,23 @@ impl PlayTop {
                 y[12] = self.s * cross(g, omega)[2];
             }
             Some(h) => {
-                if !(h.is_finite() && (0.0..=PARAMETER_RANGE.1).contains(&h)) {
-                    return Err(KreiselError::invalid(
-                        "height",
-                        h,
-                        "the gap between the tip and the floor must lie in [0, 1e+100] m (a top \
-                         cannot start below the floor)",
-                    ));
-                }
+                self.check_height(h)?;
                 y[9] = h + self.rho + self.s * u;
             }
         }
         Ok(y)
+    }
+
+    fn check_height(&self, h: f64) -> Result<()> {
+        if !(h.is_finite() && (0.0..=PARAMETER_RANGE.1).contains(&h)) {
+            return Err(KreiselError::invalid(
+                "height",
+                h,
+                "the gap between the tip and the floor must lie in [0, 1e+100] m (a top \
+                 cannot start below the floor)",
+            ));
+        }
+        Ok(())
     }
 }
 

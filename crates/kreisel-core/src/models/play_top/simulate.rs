@@ -3,15 +3,15 @@
 //! the switches of [`super::contact`]; its diagnostics columns and the running summary a
 //! batch keeps.
 
-use super::contact::{Phase, Switch};
-use super::{law, Friction, Mode, PlayTop, RhsConsts, DIM};
+use super::contact::Phase;
+use super::hybrid::{drive, Classic, Multi};
+use super::multi::Contacts;
+use super::shapes::MAX_PARTS;
+use super::{law, Mode, PlayTop, RhsConsts, DIM};
 use crate::error::{KreiselError, Result};
-use crate::integrate::{
-    Dop853, EventSpec, IntegrateError, Locator, Observer, OdeSystem, Stream, WithEvents,
-};
+use crate::integrate::{Dop853, IntegrateError, Observer, OdeSystem};
 use crate::simulate::{
-    integrate_error, relative, Accumulate, EventKind, EventRecord, MethodInfo, Model, RunInfo,
-    Settings, Sink, Status, UserFn, MAX_STEPS,
+    relative, Accumulate, EventKind, MethodInfo, Model, RunInfo, Settings, Sink, UserFn,
 };
 use std::cell::Cell;
 
@@ -25,15 +25,28 @@ pub struct PlayRow {
     pub mode: Mode,
     /// Slip direction in force at zero slip speed.
     pub dir: [f64; 3],
+    /// Every part's mode and slip direction (a one-sphere top's are `mode` and `dir`).
+    pub contacts: Contacts,
+}
+
+impl PlayRow {
+    /// The row of a one-sphere top.
+    #[inline(always)]
+    pub fn classic(y: [f64; DIM], mode: Mode, dir: [f64; 3]) -> PlayRow {
+        let mut contacts = Contacts::NONE;
+        contacts.mode[0] = mode;
+        contacts.dir[0] = [dir[0], dir[1]];
+        PlayRow {
+            y,
+            mode,
+            dir,
+            contacts,
+        }
+    }
 }
 
 /// The events a play top has besides its contact switches.
 const EVENTS: [EventKind; 2] = [EventKind::Inversion(0.0), EventKind::Rest];
-
-/// The most contact switches a run may make before it is taken for chattering.
-const MAX_SWITCHES: usize = 200_000;
-
-type RawEventFn<'a> = Box<dyn FnMut(f64, &[f64; DIM]) -> f64 + 'a>;
 
 impl Model for PlayTop {
     type State = [f64; DIM];
@@ -70,170 +83,11 @@ impl Model for PlayTop {
         keep_going: &mut dyn FnMut(f64) -> bool,
         sink: Sink<'_, PlayRow>,
     ) -> Result<RunInfo> {
-        let top = self;
-        let t_end = settings.t_end;
-        let mut info = RunInfo::default();
-        let mut y = *y0;
-        let mut phase = top.initial_phase(&mut y, settings.rtol);
-        let mut t = 0.0;
-        let mut next_sample = 0usize;
-        // Each inversion event fires once.
-        let mut fired = vec![false; settings.events.len()];
-        let coulomb = matches!(top.friction, Friction::Coulomb { .. });
-        let ke0 = {
-            let (tr, rot, _) = top.energy_parts(&y);
-            tr + rot
-        };
-        let mut first = true;
-        let mut stopped = false;
-        loop {
-            let integrator = Dop853 {
-                rtol: settings.rtol,
-                atol: settings.atol,
-                h_init: None,
-                h_max: top.phase_step(&phase, &y),
-                max_steps: MAX_STEPS,
-            };
-            let eps = top.slip_tolerance(&y, settings.rtol);
-            let ph = phase;
-            // The contact switches of this mode (terminal), then the watched events.
-            let last = Cell::new(LastRhs::NONE);
-            let switches = Switch::watched(ph.mode, coulomb);
-            let mut fns: Vec<RawEventFn<'_>> = Vec::with_capacity(switches.len() + 2);
-            let mut specs = Vec::with_capacity(switches.len() + 2);
-            for &sw in switches {
-                let last = &last;
-                fns.push(if sw == Switch::LiftOff {
-                    Box::new(move |t: f64, y: &[f64; DIM]| {
-                        let c = last.get();
-                        if c.t == t && c.q == [y[0], y[1], y[2], y[3]] {
-                            // The end of a step, just evaluated by the integrator (LastRhs).
-                            return c.n;
-                        }
-                        top.switch_value(sw, &ph, y, eps)
-                    })
-                } else {
-                    Box::new(move |_t: f64, y: &[f64; DIM]| top.switch_value(sw, &ph, y, eps))
-                });
-                specs.push(EventSpec::new(-1, true));
-            }
-            let mut watched = Vec::with_capacity(settings.events.len());
-            for (i, e) in settings.events.iter().enumerate() {
-                match e.kind {
-                    EventKind::Inversion(level) if !fired[i] => {
-                        fns.push(Box::new(move |_t: f64, y: &[f64; DIM]| {
-                            top.kin(y).u - level
-                        }));
-                    }
-                    EventKind::Rest => {
-                        fns.push(Box::new(move |_t: f64, y: &[f64; DIM]| {
-                            let (tr, rot, _) = top.energy_parts(y);
-                            tr + rot - 1e-12 * ke0
-                        }));
-                    }
-                    _ => continue,
-                }
-                specs.push(EventSpec::new(e.direction, e.terminal));
-                watched.push(i);
-            }
-            let mut locator = Locator::new();
-            for (f, spec) in fns.iter_mut().zip(&specs) {
-                locator.add(*spec, f.as_mut());
-            }
-            // Output times of this phase.
-            let seg_times: Option<&[f64]> = settings.t_eval.as_deref().map(|te| {
-                let mut i = next_sample;
-                while i < te.len() && (te[i] < t || (!first && te[i] <= t)) {
-                    i += 1;
-                }
-                &te[i..]
-            });
-            let offset = settings
-                .t_eval
-                .as_deref()
-                .map_or(0, |te| te.len() - seg_times.map_or(0, |s| s.len()));
-            // Every step's row, except a later phase's first: the switch already gave it.
-            let row = |ts: f64, yy: &[f64; DIM]| {
-                sink(
-                    ts,
-                    &PlayRow {
-                        y: *yy,
-                        mode: ph.mode,
-                        dir: ph.dir,
-                    },
-                )
-            };
-            let mut stream = Stream::new(seg_times, !first, Some(&mut *keep_going), row);
-            let mut obs = WithEvents::new(locator, &mut stream);
-            let (t1, y1, st) = integrate_phase(&integrator, top, &ph, &last, t, y, t_end, &mut obs)
-                .map_err(|e| match integrate_error(e, t_end) {
-                    KreiselError::Numerical(m) => {
-                        KreiselError::Numerical(format!("play top, {} mode: {m}", ph.mode.name()))
-                    }
-                    other => other,
-                })?;
-            let hits: Vec<(usize, f64)> =
-                obs.locator.events.iter().map(|e| (e.index, e.t)).collect();
-            drop(obs);
-            next_sample = offset + stream.taken;
-            drop(fns);
-            info.stats += st;
-            first = false;
-            let mut reason = None;
-            for (idx, te) in hits {
-                if let Some(&sw) = switches.get(idx) {
-                    info.events.push(EventRecord {
-                        index: None,
-                        name: sw.name().into(),
-                        t: te,
-                    });
-                    reason = Some(sw);
-                } else {
-                    let i = watched[idx - switches.len()];
-                    let e = &settings.events[i];
-                    info.events.push(EventRecord {
-                        index: Some(i),
-                        name: e.name.clone().into(),
-                        t: te,
-                    });
-                    if matches!(e.kind, EventKind::Inversion(_)) {
-                        fired[i] = true;
-                    }
-                    stopped |= e.terminal;
-                }
-            }
-            t = t1;
-            y = y1;
-            let Some(switch) = reason.filter(|_| !stopped && t < t_end) else {
-                break;
-            };
-            phase = top.switch(switch, &phase, &mut y, settings.rtol);
-            // The state after the switch at the same time (impacts make it jump).
-            if settings.t_eval.is_none() {
-                sink(
-                    t,
-                    &PlayRow {
-                        y,
-                        mode: phase.mode,
-                        dir: phase.dir,
-                    },
-                );
-            }
-            if info.events.len() > MAX_SWITCHES {
-                return Err(KreiselError::Numerical(format!(
-                    "play top: more than {MAX_SWITCHES} mode switches before t = {t} \
-                     (chattering); the model's contact modes do not settle here"
-                )));
-            }
-        }
-        info.status = if stopped {
-            Status::Event
-        } else if t < t_end {
-            Status::Interrupted
+        if self.is_classic() {
+            drive(&Classic(self), self, y0, settings, keep_going, sink)
         } else {
-            Status::Completed
-        };
-        Ok(info)
+            drive(&Multi(self), self, y0, settings, keep_going, sink)
+        }
     }
 
     fn summary<'a>(&'a self, _y0: &[f64; DIM], settings: &Settings) -> PlayAcc<'a> {
@@ -280,14 +134,14 @@ struct ModeSystem<'a, const M: u8, const RES: bool, const LAW: u8> {
 /// stage or root-finding state at the same time has another orientation (a step's last
 /// stage is not projected), so only the step's end state reuses it.
 #[derive(Clone, Copy)]
-struct LastRhs {
-    t: f64,
-    q: [f64; 4],
-    n: f64,
+pub(crate) struct LastRhs {
+    pub(crate) t: f64,
+    pub(crate) q: [f64; 4],
+    pub(crate) n: f64,
 }
 
 impl LastRhs {
-    const NONE: LastRhs = LastRhs {
+    pub(crate) const NONE: LastRhs = LastRhs {
         t: f64::NAN,
         q: [f64::NAN; 4],
         n: f64::NAN,
@@ -314,7 +168,7 @@ impl<const M: u8, const RES: bool, const LAW: u8> OdeSystem<DIM> for ModeSystem<
 /// Integrates one phase in `mode` (see [`ModeSystem`]); every right-hand side evaluated is
 /// left in `last`.
 #[allow(clippy::too_many_arguments)]
-fn integrate_phase<O: Observer<DIM>>(
+pub(crate) fn integrate_phase<O: Observer<DIM>>(
     integrator: &Dop853,
     top: &PlayTop,
     phase: &Phase,
@@ -381,12 +235,19 @@ pub struct PlayColumns {
     pub jellett: Vec<f64>,
     /// Energy parts: translation, rotation, potential.
     pub energy_parts: Vec<[f64; 3]>,
+    /// Whether each part touches the floor (the first [`PlayTop::parts`]`.n` are used).
+    pub part_in_contact: Vec<[bool; MAX_PARTS]>,
+    /// Each part's normal force (N).
+    pub part_normal_force: Vec<[f64; MAX_PARTS]>,
+    /// Each part's slip velocity (horizontal, space frame; m/s): the velocity of the
+    /// material point at its lowest point.
+    pub part_slip_velocity: Vec<[[f64; 2]; MAX_PARTS]>,
 }
 
 impl PlayTop {
     /// The names of the diagnostics columns of a run ([`PlayTop::columns`]), the energy
     /// parts as three columns and their sum.
-    pub const COLUMN_NAMES: [&'static str; 13] = [
+    pub const COLUMN_NAMES: [&'static str; 16] = [
         "theta",
         "phi",
         "psi",
@@ -400,6 +261,9 @@ impl PlayTop {
         "energy_rotation",
         "energy_potential",
         "energy",
+        "part_in_contact",
+        "part_normal_force",
+        "part_slip_velocity",
     ];
 
     /// The diagnostics of the rows of a play-top run.
@@ -412,6 +276,71 @@ impl PlayTop {
     }
 }
 
+/// One row of the diagnostics columns.
+#[derive(Clone, Copy, Default)]
+struct Row {
+    u: f64,
+    euler: (f64, f64, f64),
+    contact: [f64; 3],
+    slip_velocity: [f64; 3],
+    slip_speed: f64,
+    normal_force: f64,
+    jellett: f64,
+    energy_parts: [f64; 3],
+    part_in_contact: [bool; MAX_PARTS],
+    part_normal_force: [f64; MAX_PARTS],
+    part_slip_velocity: [[f64; 2]; MAX_PARTS],
+}
+
+/// The diagnostics of a row of a top with several parts (or Coulomb-Contensou friction):
+/// the contact point, slip velocity and Jellett's integral are the first touching part's
+/// (or the lowest part's in flight), the normal force is the parts' sum.
+fn multi_row(top: &PlayTop, r: &PlayRow, angles: &mut crate::simulate::Unwrapped) -> Row {
+    use crate::rotation::euler_from_matrix;
+    let y = &r.y;
+    let n = top.parts.n;
+    let k = top.mkin(y);
+    let (phi, theta, psi) = euler_from_matrix(k.r);
+    let (phi, psi) = angles.next(phi, psi);
+    let mut dy = [0.0; DIM];
+    let f = top.multi_dynamics(&r.contacts, y, &mut dy);
+    let (a, b, p) = top.energy_parts(y);
+    let mut out = Row {
+        u: k.e3[2],
+        euler: (phi, theta, psi),
+        energy_parts: [a, b, p],
+        ..Row::default()
+    };
+    let lowest = (0..n)
+        .min_by(|&i, &j| {
+            let (gi, gj) = (
+                top.parts.shape[i].gap(k.zg, k.e3),
+                top.parts.shape[j].gap(k.zg, k.e3),
+            );
+            gi.total_cmp(&gj)
+        })
+        .unwrap_or(0);
+    let main = (0..n)
+        .find(|&i| r.contacts.mode[i] != Mode::Flight)
+        .unwrap_or(lowest);
+    for i in 0..n {
+        let part = &top.parts.shape[i];
+        let vp = part.point_velocity(k.v, k.w, k.e3);
+        out.part_in_contact[i] = r.contacts.mode[i] != Mode::Flight;
+        out.part_normal_force[i] = f.n[i];
+        out.part_slip_velocity[i] = [vp[0], vp[1]];
+        out.normal_force += f.n[i];
+        if i == main {
+            let arm = part.arm(k.e3);
+            out.contact = [y[7] + arm[0], y[8] + arm[1], y[9] + arm[2]];
+            out.slip_velocity = vp;
+            out.slip_speed = (vp[0] * vp[0] + vp[1] * vp[1]).sqrt();
+        }
+    }
+    out.jellett = top.multi_jellett(y);
+    out
+}
+
 /// [`PlayTop::columns`], with the resistance torques compiled in when `RES`
 /// ([`PlayTop::dynamics_with`]).
 fn columns_with<const RES: bool>(top: &PlayTop, all: &[PlayRow]) -> PlayColumns {
@@ -419,17 +348,6 @@ fn columns_with<const RES: bool>(top: &PlayTop, all: &[PlayRow]) -> PlayColumns 
     use crate::simulate::Unwrapped;
     // Rows in blocks, then the blocks' columns: pushing to ten columns per row costs more
     // than the row's arithmetic, and rows for the whole run would be a large allocation.
-    #[derive(Clone, Copy, Default)]
-    struct Row {
-        u: f64,
-        euler: (f64, f64, f64),
-        contact: [f64; 3],
-        slip_velocity: [f64; 3],
-        slip_speed: f64,
-        normal_force: f64,
-        jellett: f64,
-        energy_parts: [f64; 3],
-    }
     const BLOCK: usize = 128;
     let n = all.len();
     let mut c = PlayColumns {
@@ -443,7 +361,11 @@ fn columns_with<const RES: bool>(top: &PlayTop, all: &[PlayRow]) -> PlayColumns 
         normal_force: Vec::with_capacity(n),
         jellett: Vec::with_capacity(n),
         energy_parts: Vec::with_capacity(n),
+        part_in_contact: Vec::with_capacity(n),
+        part_normal_force: Vec::with_capacity(n),
+        part_slip_velocity: Vec::with_capacity(n),
     };
+    let classic = top.is_classic();
     let consts = top.rhs_consts();
     let mut angles = Unwrapped::default();
     let mut rows = [Row::default(); BLOCK];
@@ -451,22 +373,36 @@ fn columns_with<const RES: bool>(top: &PlayTop, all: &[PlayRow]) -> PlayColumns 
         let end = n.min(start + BLOCK);
         for (row, r) in rows.iter_mut().zip(&all[start..end]) {
             let (y, mode, dir) = (&r.y, r.mode, r.dir);
-            let k = top.kin(y);
-            let (phi, theta, psi) = euler_from_matrix(k.r);
-            let (phi, psi) = angles.next(phi, psi);
-            let mut dy = [0.0; DIM];
-            let (a, b, p) = top.energy_parts(y);
-            *row = Row {
-                u: k.u,
-                euler: (phi, theta, psi),
-                contact: [y[7] + k.a_s[0], y[8] + k.a_s[1], y[9] + k.a_s[2]],
-                slip_velocity: k.v_t,
-                slip_speed: (k.v_t[0] * k.v_t[0] + k.v_t[1] * k.v_t[1]).sqrt(),
-                normal_force: top
+            *row = if classic {
+                let k = top.kin(y);
+                let (phi, theta, psi) = euler_from_matrix(k.r);
+                let (phi, psi) = angles.next(phi, psi);
+                let mut dy = [0.0; DIM];
+                let (a, b, p) = top.energy_parts(y);
+                let normal_force = top
                     .dynamics_with::<RES, { law::ANY }>(&consts, mode, y, dir, &mut dy)
-                    .n,
-                jellett: top.jellett(y),
-                energy_parts: [a, b, p],
+                    .n;
+                let mut part_in_contact = [false; MAX_PARTS];
+                let mut part_normal_force = [0.0; MAX_PARTS];
+                let mut part_slip_velocity = [[0.0; 2]; MAX_PARTS];
+                part_in_contact[0] = mode != Mode::Flight;
+                part_normal_force[0] = normal_force;
+                part_slip_velocity[0] = [k.v_t[0], k.v_t[1]];
+                Row {
+                    u: k.u,
+                    euler: (phi, theta, psi),
+                    contact: [y[7] + k.a_s[0], y[8] + k.a_s[1], y[9] + k.a_s[2]],
+                    slip_velocity: k.v_t,
+                    slip_speed: (k.v_t[0] * k.v_t[0] + k.v_t[1] * k.v_t[1]).sqrt(),
+                    normal_force,
+                    jellett: top.jellett(y),
+                    energy_parts: [a, b, p],
+                    part_in_contact,
+                    part_normal_force,
+                    part_slip_velocity,
+                }
+            } else {
+                multi_row(top, r, &mut angles)
             };
         }
         let rows = &rows[..end - start];
@@ -480,6 +416,12 @@ fn columns_with<const RES: bool>(top: &PlayTop, all: &[PlayRow]) -> PlayColumns 
         c.normal_force.extend(rows.iter().map(|r| r.normal_force));
         c.jellett.extend(rows.iter().map(|r| r.jellett));
         c.energy_parts.extend(rows.iter().map(|r| r.energy_parts));
+        c.part_in_contact
+            .extend(rows.iter().map(|r| r.part_in_contact));
+        c.part_normal_force
+            .extend(rows.iter().map(|r| r.part_normal_force));
+        c.part_slip_velocity
+            .extend(rows.iter().map(|r| r.part_slip_velocity));
     }
     c
 }
@@ -499,6 +441,10 @@ pub struct PlaySummary {
     pub energy_drift: f64,
     /// Accepted steps.
     pub steps: u64,
+    /// The parts touching at the end, as a bit mask (bit i: part i).
+    pub final_parts: u8,
+    /// Each part's first touchdown (s), NaN if none.
+    pub first_touchdown: [f64; MAX_PARTS],
 }
 
 impl PlaySummary {
@@ -512,6 +458,11 @@ impl PlaySummary {
             "jellett_drift" => self.jellett_drift,
             "energy_drift" => self.energy_drift,
             "steps" => self.steps as f64,
+            "final_parts_in_contact" => self.final_parts as f64,
+            "first_touchdown_time_0" => self.first_touchdown[0],
+            "first_touchdown_time_1" => self.first_touchdown[1],
+            "first_touchdown_time_2" => self.first_touchdown[2],
+            "first_touchdown_time_3" => self.first_touchdown[3],
             _ => return None,
         })
     }
@@ -559,6 +510,13 @@ impl Accumulate<PlayRow> for PlayAcc<'_> {
             jellett_drift: relative(self.jd, j0.abs()),
             energy_drift: relative(self.ed, e0.abs()),
             steps: info.stats.steps,
+            final_parts: last.map_or(0, |r| r.contacts.mask(self.top.parts.n)),
+            first_touchdown: std::array::from_fn(|i| {
+                info.events
+                    .iter()
+                    .find(|e| e.index.is_none() && e.part == Some(i) && e.name == "touchdown")
+                    .map_or(f64::NAN, |e| e.t)
+            }),
         }
     }
 }

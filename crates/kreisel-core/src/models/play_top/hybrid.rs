@@ -1,0 +1,642 @@
+//! The play top's hybrid driver: smooth phases, each integrated with DOP853 and ended by
+//! located events, joined by contact switches. One driver for two sets of contact rules:
+//! [`Classic`] (one sphere, [`super::contact`]) and [`Multi`] (several parts or
+//! Coulomb-Contensou friction, [`super::multi`]).
+
+use super::contact::{Phase, Switch};
+use super::multi::Contacts;
+use super::simulate::{integrate_phase, LastRhs, PlayRow};
+use super::{Mode, PlayTop, DIM};
+use crate::error::{KreiselError, Result};
+use crate::integrate::{
+    Dop853, EventSpec, IntegrateError, Locator, Observer, OdeSystem, Stream, WithEvents,
+};
+use crate::simulate::{
+    integrate_error, EventKind, EventRecord, RunInfo, Settings, Sink, Status, MAX_STEPS,
+};
+use std::cell::Cell;
+
+/// The most contact switches a run may make before it is taken for chattering.
+const MAX_SWITCHES: usize = 200_000;
+
+type RawEventFn<'a> = Box<dyn FnMut(f64, &[f64; DIM]) -> f64 + 'a>;
+
+type PhaseResult = std::result::Result<(f64, [f64; DIM], crate::integrate::Stats), IntegrateError>;
+
+/// A set of contact rules: its phases, the switches watched in each, and what each does.
+pub(crate) trait Hybrid {
+    /// Where a phase stands.
+    type Phase: Copy;
+    /// A switch of contact, located as an event of the phase it ends.
+    type Switch: Copy;
+    /// The phase a state starts in (the state put on its constraints).
+    fn start(&self, y: &mut [f64; DIM], rtol: f64) -> Self::Phase;
+    /// The switches watched in a phase.
+    fn watched(&self, phase: &Self::Phase) -> Vec<Self::Switch>;
+    /// Whether a switch is the classic lift-off (whose normal force the last right-hand side
+    /// gives).
+    fn is_lift_off(&self, sw: Self::Switch) -> bool;
+    /// The event function of a switch (a sign change downward triggers it).
+    fn value(&self, sw: Self::Switch, phase: &Self::Phase, y: &[f64; DIM], eps: f64) -> f64;
+    /// The event's public name and its part.
+    fn record(&self, sw: Self::Switch) -> (&'static str, Option<usize>);
+    /// Carries out a switch at the located state.
+    fn apply(
+        &self,
+        sw: Self::Switch,
+        phase: &Self::Phase,
+        y: &mut [f64; DIM],
+        rtol: f64,
+    ) -> Self::Phase;
+    /// The largest step of a phase.
+    fn max_step(&self, phase: &Self::Phase, y: &[f64; DIM]) -> f64;
+    /// The slip speed taken as zero in a phase from `y`.
+    fn tolerance(&self, y: &[f64; DIM], rtol: f64) -> f64;
+    /// The row of a state in a phase.
+    fn row(&self, phase: &Self::Phase, y: &[f64; DIM]) -> PlayRow;
+    /// Integrates one phase.
+    #[allow(clippy::too_many_arguments)]
+    fn integrate<O: Observer<DIM>>(
+        &self,
+        integrator: &Dop853,
+        phase: &Self::Phase,
+        last: &Cell<LastRhs>,
+        t: f64,
+        y: [f64; DIM],
+        t_end: f64,
+        obs: &mut O,
+    ) -> PhaseResult;
+    /// The name of a phase's mode for messages.
+    fn mode_name(&self, phase: &Self::Phase) -> &'static str;
+}
+
+/// The one-sphere rules of [`super::contact`].
+pub(crate) struct Classic<'a>(pub &'a PlayTop);
+
+impl Hybrid for Classic<'_> {
+    type Phase = Phase;
+    type Switch = Switch;
+    fn start(&self, y: &mut [f64; DIM], rtol: f64) -> Phase {
+        self.0.initial_phase(y, rtol)
+    }
+    fn watched(&self, phase: &Phase) -> Vec<Switch> {
+        Switch::watched(phase.mode, self.0.friction.can_stick()).to_vec()
+    }
+    fn is_lift_off(&self, sw: Switch) -> bool {
+        sw == Switch::LiftOff
+    }
+    fn value(&self, sw: Switch, phase: &Phase, y: &[f64; DIM], eps: f64) -> f64 {
+        self.0.switch_value(sw, phase, y, eps)
+    }
+    fn record(&self, sw: Switch) -> (&'static str, Option<usize>) {
+        (sw.name(), Some(0))
+    }
+    fn apply(&self, sw: Switch, phase: &Phase, y: &mut [f64; DIM], rtol: f64) -> Phase {
+        self.0.switch(sw, phase, y, rtol)
+    }
+    fn max_step(&self, phase: &Phase, y: &[f64; DIM]) -> f64 {
+        self.0.phase_step(phase, y)
+    }
+    fn tolerance(&self, y: &[f64; DIM], rtol: f64) -> f64 {
+        self.0.slip_tolerance(y, rtol)
+    }
+    fn row(&self, phase: &Phase, y: &[f64; DIM]) -> PlayRow {
+        PlayRow::classic(*y, phase.mode, phase.dir)
+    }
+    fn integrate<O: Observer<DIM>>(
+        &self,
+        integrator: &Dop853,
+        phase: &Phase,
+        last: &Cell<LastRhs>,
+        t: f64,
+        y: [f64; DIM],
+        t_end: f64,
+        obs: &mut O,
+    ) -> PhaseResult {
+        integrate_phase(integrator, self.0, phase, last, t, y, t_end, obs)
+    }
+    fn mode_name(&self, phase: &Phase) -> &'static str {
+        phase.mode.name()
+    }
+}
+
+/// A switch of the several-part rules, each of one part.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MSwitch {
+    /// The part reaches the floor.
+    Touchdown(usize),
+    /// The part's normal force falls to zero.
+    LiftOff(usize),
+    /// The part's sliding (and drilling) falls to zero: it may stick.
+    SlipToRoll(usize),
+    /// The friction a sticking part needs leaves its cone (or ellipse).
+    RollToSlip(usize),
+    /// A sliding part's own coefficient falls towards zero (the Painleve case): a tangential
+    /// impact.
+    Jam(usize),
+}
+
+impl MSwitch {
+    /// The event's public name.
+    pub const fn name(self) -> &'static str {
+        match self {
+            MSwitch::Touchdown(_) => "touchdown",
+            MSwitch::LiftOff(_) => "lift_off",
+            MSwitch::SlipToRoll(_) => "slip_to_roll",
+            MSwitch::RollToSlip(_) => "roll_to_slip",
+            MSwitch::Jam(_) => "tangential_impact",
+        }
+    }
+    /// The part.
+    pub const fn part(self) -> usize {
+        match self {
+            MSwitch::Touchdown(i)
+            | MSwitch::LiftOff(i)
+            | MSwitch::SlipToRoll(i)
+            | MSwitch::RollToSlip(i)
+            | MSwitch::Jam(i) => i,
+        }
+    }
+}
+
+/// Where a phase of the several-part rules stands: each part's mode and slip direction, and
+/// the expected flight time of a bounce (infinite: unknown).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MPhase {
+    /// The parts' modes.
+    pub contacts: Contacts,
+    /// Expected flight time after a bounce (s).
+    pub hop: f64,
+}
+
+/// The several-part rules of [`super::multi`].
+pub(crate) struct Multi<'a>(pub &'a PlayTop);
+
+impl Multi<'_> {
+    /// The own coefficient below which a sliding part is taken to jam: a thousandth of a
+    /// free point mass's (1/m).
+    fn jam_level(&self) -> f64 {
+        1e-3 / self.0.m
+    }
+
+    /// After an impulse: the parts touching and not separating resolved into modes, the
+    /// rest in flight; the bounce's expected flight time.
+    fn after_impulse(&self, y: &mut [f64; DIM], prev: &Contacts, rtol: f64) -> MPhase {
+        let top = self.0;
+        let l = top.reach();
+        let vscale = top.multi_speed_scale(y);
+        let cand = top.touching(y, 1e-9 * l, 1e-9 * vscale);
+        let eps = self.tolerance(y, rtol);
+        let contacts = if cand == 0 {
+            Contacts::NONE
+        } else {
+            top.resolve(y, cand, prev, eps)
+        };
+        let k = top.mkin(y);
+        // The fastest separating part's flight, for the step limit.
+        let mut hop = f64::INFINITY;
+        for i in 0..top.parts.n {
+            let p = &top.parts.shape[i];
+            let vn = p.gap_rate(k.v[2], k.w, k.e3);
+            if contacts.mode[i] == Mode::Flight && vn > 0.0 && top.g > 0.0 {
+                hop = hop.min(2.0 * vn / top.g);
+            }
+        }
+        top.multi_project(&contacts, y);
+        MPhase { contacts, hop }
+    }
+}
+
+impl Hybrid for Multi<'_> {
+    type Phase = MPhase;
+    type Switch = MSwitch;
+
+    fn start(&self, y: &mut [f64; DIM], rtol: f64) -> MPhase {
+        let top = self.0;
+        let l = top.reach();
+        let cand = top.touching(y, 1e-12 * l, f64::INFINITY);
+        let eps = self.tolerance(y, rtol);
+        let mut contacts = if cand == 0 {
+            Contacts::NONE
+        } else {
+            top.resolve(y, cand, &Contacts::NONE, eps)
+        };
+        // A part that starts sticking with a round-off slip is stopped exactly.
+        for i in 0..top.parts.n {
+            if contacts.mode[i] == Mode::Roll {
+                let (yi, _) = top.multi_impact(y, contacts.mask(top.parts.n), [0.0; 4]);
+                *y = yi;
+                break;
+            }
+        }
+        if contacts.mask(top.parts.n) == 0 {
+            contacts = Contacts::NONE;
+        }
+        top.multi_project(&contacts, y);
+        MPhase {
+            contacts,
+            hop: f64::INFINITY,
+        }
+    }
+
+    fn watched(&self, phase: &MPhase) -> Vec<MSwitch> {
+        let top = self.0;
+        let stick = top.friction.can_stick();
+        let jam = stick && top.friction.mu() > 0.0;
+        let mut out = Vec::with_capacity(3 * top.parts.n);
+        for i in 0..top.parts.n {
+            match phase.contacts.mode[i] {
+                Mode::Flight => out.push(MSwitch::Touchdown(i)),
+                Mode::Slip => {
+                    out.push(MSwitch::LiftOff(i));
+                    if stick {
+                        out.push(MSwitch::SlipToRoll(i));
+                    }
+                    if jam {
+                        out.push(MSwitch::Jam(i));
+                    }
+                }
+                Mode::Roll => {
+                    out.push(MSwitch::LiftOff(i));
+                    out.push(MSwitch::RollToSlip(i));
+                }
+            }
+        }
+        out
+    }
+
+    fn is_lift_off(&self, _sw: MSwitch) -> bool {
+        false
+    }
+
+    fn value(&self, sw: MSwitch, phase: &MPhase, y: &[f64; DIM], eps: f64) -> f64 {
+        let top = self.0;
+        let forces = || {
+            let mut dy = [0.0; DIM];
+            top.multi_dynamics(&phase.contacts, y, &mut dy)
+        };
+        match sw {
+            MSwitch::Touchdown(i) => {
+                let k = top.mkin(y);
+                top.parts.shape[i].gap(k.zg, k.e3)
+            }
+            MSwitch::LiftOff(i) => forces().n[i],
+            MSwitch::SlipToRoll(i) => {
+                let k = top.mkin(y);
+                let vp = top.parts.shape[i].point_velocity(k.v, k.w, k.e3);
+                top.slide_measure(vp, k.w[2]) - eps
+            }
+            MSwitch::RollToSlip(i) => top.stick_margin(&forces(), i),
+            MSwitch::Jam(i) => forces().den[i] - self.jam_level(),
+        }
+    }
+
+    fn record(&self, sw: MSwitch) -> (&'static str, Option<usize>) {
+        (sw.name(), Some(sw.part()))
+    }
+
+    fn apply(&self, sw: MSwitch, phase: &MPhase, y: &mut [f64; DIM], rtol: f64) -> MPhase {
+        let top = self.0;
+        let n = top.parts.n;
+        let mut c = phase.contacts;
+        match sw {
+            MSwitch::LiftOff(i) => {
+                // Leaves from the contact: the located state is put back on it first.
+                top.multi_project(&c, y);
+                c.mode[i] = Mode::Flight;
+                let eps = self.tolerance(y, rtol);
+                let rest = c.mask(n);
+                if rest != 0 {
+                    c = top.resolve(y, rest, &c, eps);
+                }
+                top.multi_project(&c, y);
+                MPhase {
+                    contacts: c,
+                    hop: f64::INFINITY,
+                }
+            }
+            MSwitch::Touchdown(i) => {
+                let set = c.mask(n) | (1 << i);
+                let mut target = [0.0; 4];
+                let k = top.mkin(y);
+                let vn = top.parts.shape[i].gap_rate(k.v[2], k.w, k.e3);
+                target[i] = -top.restitution * vn;
+                // Flights shorter than a millionth of the free-fall time through the top's
+                // reach are below what the events resolve: such a bounce is absorbed.
+                let tiny = 1e-6 * (top.reach() / top.g.max(1e-300)).sqrt();
+                if top.g > 0.0 && 2.0 * target[i] / top.g <= tiny {
+                    target[i] = 0.0;
+                }
+                let (yi, _) = top.multi_impact(y, set, target);
+                *y = yi;
+                self.after_impulse(y, &c, rtol)
+            }
+            MSwitch::SlipToRoll(i) => {
+                let eps = self.tolerance(y, rtol);
+                let mut want = c;
+                want.mode[i] = Mode::Roll;
+                let mut dy = [0.0; DIM];
+                let f = top.multi_dynamics(&want, y, &mut dy);
+                if top.stick_margin(&f, i) >= 0.0 && f.n[i] >= 0.0 {
+                    let mut target = [0.0; 4];
+                    let k = top.mkin(y);
+                    for (j, t) in target.iter_mut().enumerate().take(n) {
+                        *t = top.parts.shape[j].gap_rate(k.v[2], k.w, k.e3).max(0.0);
+                    }
+                    let (yi, _) = top.multi_impact(y, 1 << i, target);
+                    *y = yi;
+                    c = want;
+                } else {
+                    let t = (f.ft[i][0] * f.ft[i][0] + f.ft[i][1] * f.ft[i][1]).sqrt();
+                    if t > 0.0 {
+                        c.dir[i] = [-f.ft[i][0] / t, -f.ft[i][1] / t];
+                    }
+                }
+                let _ = eps;
+                top.multi_project(&c, y);
+                MPhase {
+                    contacts: c,
+                    hop: phase.hop,
+                }
+            }
+            MSwitch::RollToSlip(i) => {
+                let mut dy = [0.0; DIM];
+                let f = top.multi_dynamics(&c, y, &mut dy);
+                let t = (f.ft[i][0] * f.ft[i][0] + f.ft[i][1] * f.ft[i][1]).sqrt();
+                if t > 0.0 {
+                    c.dir[i] = [-f.ft[i][0] / t, -f.ft[i][1] / t];
+                }
+                c.mode[i] = Mode::Slip;
+                let f = top.multi_dynamics(&c, y, &mut dy);
+                if f.n[i] < 0.0 {
+                    c.mode[i] = Mode::Flight;
+                }
+                top.multi_project(&c, y);
+                MPhase {
+                    contacts: c,
+                    hop: f64::INFINITY,
+                }
+            }
+            MSwitch::Jam(i) => {
+                // The tangential impact of the Painleve case: an impulse at the part that
+                // stops its slip, sticking if the cone allows, else sliding until the slip
+                // along its direction is gone.
+                let (yi, _) = top.multi_impact(y, c.mask(n), [0.0; 4]);
+                *y = yi;
+                let _ = i;
+                self.after_impulse(y, &c, rtol)
+            }
+        }
+    }
+
+    fn max_step(&self, phase: &MPhase, y: &[f64; DIM]) -> f64 {
+        let top = self.0;
+        if phase.contacts.mask(top.parts.n) != 0 {
+            // A part off the floor while others touch closes its gap smoothly (the step
+            // control follows the motion); no limit, so a part that never touches changes
+            // nothing.
+            return f64::INFINITY;
+        }
+        // In flight: a tenth of the free-fall time through the reach, a quarter radian of
+        // rotation, and a quarter of a bounce, so that a touchdown is not stepped over.
+        let w = (y[4] * y[4] + y[5] * y[5] + y[6] * y[6]).sqrt();
+        let mut h = (0.25 / w.max(1e-300)).min(phase.hop / 4.0);
+        if top.g > 0.0 {
+            h = h.min(0.1 * (top.reach() / top.g).sqrt());
+        }
+        h
+    }
+
+    fn tolerance(&self, y: &[f64; DIM], rtol: f64) -> f64 {
+        (10.0 * rtol).max(1e-10) * self.0.multi_speed_scale(y)
+    }
+
+    fn row(&self, phase: &MPhase, y: &[f64; DIM]) -> PlayRow {
+        let n = self.0.parts.n;
+        let c = &phase.contacts;
+        let first = (0..n).find(|&i| c.mode[i] != Mode::Flight).unwrap_or(0);
+        PlayRow {
+            y: *y,
+            mode: c.overall(n),
+            dir: [c.dir[first][0], c.dir[first][1], 0.0],
+            contacts: *c,
+        }
+    }
+
+    fn integrate<O: Observer<DIM>>(
+        &self,
+        integrator: &Dop853,
+        phase: &MPhase,
+        _last: &Cell<LastRhs>,
+        t: f64,
+        y: [f64; DIM],
+        t_end: f64,
+        obs: &mut O,
+    ) -> PhaseResult {
+        integrator.integrate(
+            &MultiSystem {
+                top: self.0,
+                contacts: phase.contacts,
+            },
+            t,
+            y,
+            t_end,
+            obs,
+        )
+    }
+
+    fn mode_name(&self, phase: &MPhase) -> &'static str {
+        phase.contacts.overall(self.0.parts.n).name()
+    }
+}
+
+/// The several-part equations with the parts' modes fixed.
+struct MultiSystem<'a> {
+    top: &'a PlayTop,
+    contacts: Contacts,
+}
+
+impl OdeSystem<DIM> for MultiSystem<'_> {
+    #[inline]
+    fn rhs(&self, _t: f64, y: &[f64; DIM], dy: &mut [f64; DIM]) {
+        self.top.multi_dynamics(&self.contacts, y, dy);
+    }
+    fn project(&self, y: &mut [f64; DIM]) {
+        self.top.multi_project(&self.contacts, y);
+    }
+}
+
+/// The hybrid run of `top` under the rules `h` (see [`crate::simulate::Model::run`]).
+pub(crate) fn drive<H: Hybrid>(
+    h: &H,
+    top: &PlayTop,
+    y0: &[f64; DIM],
+    settings: &Settings,
+    keep_going: &mut dyn FnMut(f64) -> bool,
+    sink: Sink<'_, PlayRow>,
+) -> Result<RunInfo> {
+    let t_end = settings.t_end;
+    let mut info = RunInfo::default();
+    let mut y = *y0;
+    let mut phase = h.start(&mut y, settings.rtol);
+    let mut t = 0.0;
+    let mut next_sample = 0usize;
+    // Each inversion event fires once.
+    let mut fired = vec![false; settings.events.len()];
+    let ke0 = {
+        let (tr, rot, _) = top.energy_parts(&y);
+        tr + rot
+    };
+    let mut first = true;
+    let mut stopped = false;
+    loop {
+        let integrator = Dop853 {
+            rtol: settings.rtol,
+            atol: settings.atol,
+            h_init: None,
+            h_max: h.max_step(&phase, &y),
+            max_steps: MAX_STEPS,
+        };
+        let eps = h.tolerance(&y, settings.rtol);
+        let ph = phase;
+        // The contact switches of this phase (terminal), then the watched events.
+        let last = Cell::new(LastRhs::NONE);
+        let switches = h.watched(&ph);
+        let mut fns: Vec<RawEventFn<'_>> = Vec::with_capacity(switches.len() + 2);
+        let mut specs = Vec::with_capacity(switches.len() + 2);
+        for &sw in &switches {
+            let last = &last;
+            fns.push(if h.is_lift_off(sw) {
+                Box::new(move |t: f64, y: &[f64; DIM]| {
+                    let c = last.get();
+                    if c.t == t && c.q == [y[0], y[1], y[2], y[3]] {
+                        // The end of a step, just evaluated by the integrator (LastRhs).
+                        return c.n;
+                    }
+                    h.value(sw, &ph, y, eps)
+                })
+            } else {
+                Box::new(move |_t: f64, y: &[f64; DIM]| h.value(sw, &ph, y, eps))
+            });
+            specs.push(EventSpec::new(-1, true));
+        }
+        let mut watched = Vec::with_capacity(settings.events.len());
+        for (i, e) in settings.events.iter().enumerate() {
+            match e.kind {
+                EventKind::Inversion(level) if !fired[i] => {
+                    fns.push(Box::new(move |_t: f64, y: &[f64; DIM]| {
+                        top.mkin(y).e3[2] - level
+                    }));
+                }
+                EventKind::Rest => {
+                    fns.push(Box::new(move |_t: f64, y: &[f64; DIM]| {
+                        let (tr, rot, _) = top.energy_parts(y);
+                        tr + rot - 1e-12 * ke0
+                    }));
+                }
+                _ => continue,
+            }
+            specs.push(EventSpec::new(e.direction, e.terminal));
+            watched.push(i);
+        }
+        let mut locator = Locator::new();
+        for (f, spec) in fns.iter_mut().zip(&specs) {
+            locator.add(*spec, f.as_mut());
+        }
+        // Output times of this phase.
+        let seg_times: Option<&[f64]> = settings.t_eval.as_deref().map(|te| {
+            let mut i = next_sample;
+            while i < te.len() && (te[i] < t || (!first && te[i] <= t)) {
+                i += 1;
+            }
+            &te[i..]
+        });
+        let offset = settings
+            .t_eval
+            .as_deref()
+            .map_or(0, |te| te.len() - seg_times.map_or(0, |s| s.len()));
+        // Every step's row, except a later phase's first: the switch already gave it.
+        let row = |ts: f64, yy: &[f64; DIM]| sink(ts, &h.row(&ph, yy));
+        let mut stream = Stream::new(seg_times, !first, Some(&mut *keep_going), row);
+        let mut obs = WithEvents::new(locator, &mut stream);
+        let (t1, y1, st) = h
+            .integrate(&integrator, &ph, &last, t, y, t_end, &mut obs)
+            .map_err(|e| match integrate_error(e, t_end) {
+                KreiselError::Numerical(m) => {
+                    KreiselError::Numerical(format!("play top, {} mode: {m}", h.mode_name(&ph)))
+                }
+                other => other,
+            })?;
+        let hits: Vec<(usize, f64)> = obs.locator.events.iter().map(|e| (e.index, e.t)).collect();
+        drop(obs);
+        next_sample = offset + stream.taken;
+        drop(fns);
+        info.stats += st;
+        first = false;
+        let mut reason = None;
+        for (idx, te) in hits {
+            if let Some(&sw) = switches.get(idx) {
+                let (name, part) = h.record(sw);
+                info.events.push(EventRecord {
+                    index: None,
+                    name: name.into(),
+                    t: te,
+                    part,
+                });
+                reason = Some(sw);
+            } else {
+                let i = watched[idx - switches.len()];
+                let e = &settings.events[i];
+                info.events.push(EventRecord {
+                    index: Some(i),
+                    name: e.name.clone().into(),
+                    t: te,
+                    part: None,
+                });
+                if matches!(e.kind, EventKind::Inversion(_)) {
+                    fired[i] = true;
+                }
+                stopped |= e.terminal;
+            }
+        }
+        t = t1;
+        y = y1;
+        let Some(switch) = reason.filter(|_| !stopped && t < t_end) else {
+            break;
+        };
+        let before = h.row(&phase, &y).contacts.mask(top.parts.n);
+        phase = h.apply(switch, &phase, &mut y, settings.rtol);
+        // Other parts that an impulse lifted off or put down at the same instant.
+        let after = h.row(&phase, &y).contacts.mask(top.parts.n);
+        let own = h.record(switch).1;
+        for i in 0..top.parts.n {
+            let (was, is) = (before & (1 << i) != 0, after & (1 << i) != 0);
+            if was != is && Some(i) != own {
+                info.events.push(EventRecord {
+                    index: None,
+                    name: if is { "touchdown" } else { "lift_off" }.into(),
+                    t,
+                    part: Some(i),
+                });
+            }
+        }
+        // The state after the switch at the same time (impacts make it jump).
+        if settings.t_eval.is_none() {
+            sink(t, &h.row(&phase, &y));
+        }
+        if info.events.len() > MAX_SWITCHES {
+            return Err(KreiselError::Numerical(format!(
+                "play top: more than {MAX_SWITCHES} mode switches before t = {t} \
+                 (chattering); the model's contact modes do not settle here"
+            )));
+        }
+    }
+    info.status = if stopped {
+        Status::Event
+    } else if t < t_end {
+        Status::Interrupted
+    } else {
+        Status::Completed
+    };
+    Ok(info)
+}

@@ -1,0 +1,754 @@
+//! Tops with several contact parts, or with Coulomb-Contensou friction (PHYSICS.md 4): the
+//! equations of motion with any set of parts touching, each sliding or sticking, and the
+//! contact rules between them (touchdown and lift-off of a part, stick and slip of a part,
+//! the tangential impact that ends a Painleve jam, impacts with several parts touching).
+//!
+//! Everything is in the space frame. The unknown contact forces are solved for jointly: each
+//! touching part adds its normal force N_i (the gap's acceleration is zero), a sliding part
+//! carries its friction per unit N_i (Coulomb, viscous, or Coulomb-Contensou with its drilling
+//! torque), a sticking part adds its tangential force (the slip's rate is zero) and, under
+//! Coulomb-Contensou friction, its drilling torque (the drilling rate's rate is zero). That is
+//! one linear system of at most 4 unknowns per part, solved by Gaussian elimination. Which
+//! parts touch is decided where it changes (at touchdown, after an impact, at the start) by
+//! the complementarity conditions: every touching part pushes (N_i >= 0), every part at zero
+//! gap that does not touch separates (its gap's acceleration >= 0).
+//!
+//! Hand-written: the systems are tiny (at most 16 unknowns, mostly 1 or 2) and solved at
+//! every right-hand side; a general linear-algebra crate adds allocation and dispatch that
+//! cost more than the arithmetic here.
+
+// Index loops: the systems' rows, columns and parts are addressed together by position.
+#![allow(clippy::needless_range_loop)]
+
+use super::shapes::{Shape, MAX_PARTS};
+use super::{Friction, Mode, PlayTop, DIM};
+use crate::rotation::{cross, dot, Quat};
+
+const EX: [f64; 3] = [1.0, 0.0, 0.0];
+const EY: [f64; 3] = [0.0, 1.0, 0.0];
+const EZ: [f64; 3] = [0.0, 0.0, 1.0];
+const ZERO: [f64; 3] = [0.0; 3];
+/// The most unknowns of one system: four per part.
+const MAXU: usize = 4 * MAX_PARTS;
+
+fn add(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
+}
+fn scale(k: f64, a: [f64; 3]) -> [f64; 3] {
+    [k * a[0], k * a[1], k * a[2]]
+}
+
+/// Every part's contact mode (slip, roll = stick, flight = not touching) and the slip
+/// direction (horizontal, space frame) a Coulomb force takes where the slip speed is zero.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Contacts {
+    /// Mode of each part.
+    pub mode: [Mode; MAX_PARTS],
+    /// Slip direction in force at zero slip speed, per part.
+    pub dir: [[f64; 2]; MAX_PARTS],
+}
+
+impl Contacts {
+    /// No part touches.
+    pub const NONE: Contacts = Contacts {
+        mode: [Mode::Flight; MAX_PARTS],
+        dir: [[0.0; 2]; MAX_PARTS],
+    };
+
+    /// The one mode that describes the whole top: slip if a part slides, else roll if a
+    /// part sticks, else flight.
+    pub fn overall(&self, n: usize) -> Mode {
+        let m = &self.mode[..n];
+        if m.contains(&Mode::Slip) {
+            Mode::Slip
+        } else if m.contains(&Mode::Roll) {
+            Mode::Roll
+        } else {
+            Mode::Flight
+        }
+    }
+
+    /// The parts touching, as a bit mask (bit i: part i).
+    pub fn mask(&self, n: usize) -> u8 {
+        (0..n).fold(0, |acc, i| {
+            acc | (u8::from(self.mode[i] != Mode::Flight) << i)
+        })
+    }
+}
+
+/// Kinematics of a state in the space frame.
+#[derive(Debug, Clone, Copy)]
+pub struct MKin {
+    /// Orientation as integrated.
+    pub q: Quat,
+    /// Rotation body -> space of `q / |q|` (row-major).
+    pub r: [[f64; 3]; 3],
+    /// Body angular velocity.
+    pub wb: [f64; 3],
+    /// Space angular velocity.
+    pub w: [f64; 3],
+    /// Figure axis (space).
+    pub e3: [f64; 3],
+    /// Velocity of G.
+    pub v: [f64; 3],
+    /// Height of G.
+    pub zg: f64,
+}
+
+impl MKin {
+    fn to_space(self, v: [f64; 3]) -> [f64; 3] {
+        let r = &self.r;
+        [dot(r[0], v), dot(r[1], v), dot(r[2], v)]
+    }
+    fn to_body(self, v: [f64; 3]) -> [f64; 3] {
+        let r = &self.r;
+        [
+            r[0][0] * v[0] + r[1][0] * v[1] + r[2][0] * v[2],
+            r[0][1] * v[0] + r[1][1] * v[1] + r[2][1] * v[2],
+            r[0][2] * v[0] + r[1][2] * v[1] + r[2][2] * v[2],
+        ]
+    }
+}
+
+/// The contact forces of a state in a [`Contacts`], per part.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Forces {
+    /// Normal force (N); 0 for a part not touching.
+    pub n: [f64; MAX_PARTS],
+    /// Tangential force (space frame, horizontal; N).
+    pub ft: [[f64; 2]; MAX_PARTS],
+    /// Drilling torque about the vertical (N m).
+    pub mz: [f64; MAX_PARTS],
+    /// A sliding part's own coefficient: its gap's acceleration per unit of its normal
+    /// force, friction included (1/kg). Zero or negative: the Painleve case (sliding has no
+    /// consistent normal force).
+    pub den: [f64; MAX_PARTS],
+}
+
+/// A linear system in contact forces (or impulses): columns are wrenches (force and torque
+/// about G, space frame), rows measure the response of a material point's velocity
+/// (`jv . dv + jw . dw`), the right-hand side what the row must change by.
+struct System {
+    n: usize,
+    force: [[f64; 3]; MAXU],
+    torque: [[f64; 3]; MAXU],
+    jv: [[f64; 3]; MAXU],
+    jw: [[f64; 3]; MAXU],
+    rhs: [f64; MAXU],
+}
+
+impl System {
+    fn new() -> System {
+        System {
+            n: 0,
+            force: [ZERO; MAXU],
+            torque: [ZERO; MAXU],
+            jv: [ZERO; MAXU],
+            jw: [ZERO; MAXU],
+            rhs: [0.0; MAXU],
+        }
+    }
+
+    /// Adds an unknown (its wrench) with its row.
+    fn push(&mut self, force: [f64; 3], torque: [f64; 3], jv: [f64; 3], jw: [f64; 3], rhs: f64) {
+        let i = self.n;
+        self.force[i] = force;
+        self.torque[i] = torque;
+        self.jv[i] = jv;
+        self.jw[i] = jw;
+        self.rhs[i] = rhs;
+        self.n += 1;
+    }
+
+    /// The unknowns, and the matrix's diagonal; `resp(f, t)` is the (dv, dw) a wrench makes.
+    fn solve(
+        &self,
+        resp: impl Fn([f64; 3], [f64; 3]) -> ([f64; 3], [f64; 3]),
+    ) -> ([f64; MAXU], [f64; MAXU]) {
+        let n = self.n;
+        let mut a = [[0.0; MAXU]; MAXU];
+        for c in 0..n {
+            let (dv, dw) = resp(self.force[c], self.torque[c]);
+            for r in 0..n {
+                a[r][c] = dot(self.jv[r], dv) + dot(self.jw[r], dw);
+            }
+        }
+        let mut diag = [0.0; MAXU];
+        for i in 0..n {
+            diag[i] = a[i][i];
+        }
+        let mut b = self.rhs;
+        let big = (0..n)
+            .flat_map(|r| a[r][..n].iter().map(|x| x.abs()).collect::<Vec<_>>())
+            .fold(0.0, f64::max);
+        // Gaussian elimination with partial pivoting; a pivot that vanishes against the
+        // matrix's size is a redundant constraint, whose unknown is left at zero.
+        let mut skip = [false; MAXU];
+        for k in 0..n {
+            let p = (k..n)
+                .max_by(|&i, &j| a[i][k].abs().total_cmp(&a[j][k].abs()))
+                .unwrap_or(k);
+            a.swap(k, p);
+            b.swap(k, p);
+            if a[k][k].abs() <= 1e-13 * big {
+                skip[k] = true;
+                continue;
+            }
+            for i in k + 1..n {
+                let f = a[i][k] / a[k][k];
+                if f != 0.0 {
+                    for j in k..n {
+                        a[i][j] -= f * a[k][j];
+                    }
+                    b[i] -= f * b[k];
+                }
+            }
+        }
+        let mut x = [0.0; MAXU];
+        for k in (0..n).rev() {
+            if skip[k] {
+                continue;
+            }
+            let s: f64 = (k + 1..n).map(|j| a[k][j] * x[j]).sum();
+            x[k] = (b[k] - s) / a[k][k];
+        }
+        (x, diag)
+    }
+}
+
+/// What each unknown of a contact system is.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Unknown {
+    /// A sliding part's normal force, its friction per unit N given.
+    SlipN { part: usize, ft: [f64; 2], mz: f64 },
+    /// A sticking part's normal force.
+    StickN(usize),
+    /// A sticking part's tangential force along x or y.
+    StickT(usize, usize),
+    /// A sticking part's drilling torque (Coulomb-Contensou).
+    StickM(usize),
+}
+
+impl PlayTop {
+    /// The space-frame kinematics of a state.
+    #[inline]
+    pub fn mkin(&self, y: &[f64; DIM]) -> MKin {
+        let q = Quat([y[0], y[1], y[2], y[3]]);
+        let r = q.unit_matrix();
+        let wb = [y[4], y[5], y[6]];
+        let w = [dot(r[0], wb), dot(r[1], wb), dot(r[2], wb)];
+        MKin {
+            q,
+            r,
+            wb,
+            w,
+            e3: [r[0][2], r[1][2], r[2][2]],
+            v: [y[10], y[11], y[12]],
+            zg: y[9],
+        }
+    }
+
+    /// The parts in use.
+    fn part(&self, i: usize) -> &Shape {
+        &self.parts.shape[i]
+    }
+
+    /// The change of G's velocity and of the space angular velocity an impulse (or force)
+    /// `f` with moment `t` about G makes (per unit time for a force).
+    fn response(&self, k: &MKin, f: [f64; 3], t: [f64; 3]) -> ([f64; 3], [f64; 3]) {
+        let tb = k.to_body(t);
+        let dwb = [tb[0] / self.a, tb[1] / self.a, tb[2] / self.c];
+        (scale(1.0 / self.m, f), k.to_space(dwb))
+    }
+
+    /// The friction of a sliding part per unit normal force: the tangential force (space,
+    /// horizontal) and the drilling torque, from the part's slip velocity `vp`, the drilling
+    /// rate `wn` and the direction `dir` taken at zero slip.
+    pub fn friction_per_n(&self, vp: [f64; 3], wn: f64, dir: [f64; 2]) -> ([f64; 2], f64) {
+        let sp = (vp[0] * vp[0] + vp[1] * vp[1]).sqrt();
+        match self.friction {
+            Friction::Coulomb { mu } => {
+                if sp > 0.0 {
+                    ([-mu * vp[0] / sp, -mu * vp[1] / sp], 0.0)
+                } else {
+                    ([-mu * dir[0], -mu * dir[1]], 0.0)
+                }
+            }
+            Friction::CoulombContensou { mu, .. } => {
+                let rb = self.friction.rbar();
+                let d = (sp * sp + rb * rb * wn * wn).sqrt();
+                if d > 0.0 {
+                    ([-mu * vp[0] / d, -mu * vp[1] / d], -mu * rb * rb * wn / d)
+                } else {
+                    ([-mu * dir[0], -mu * dir[1]], 0.0)
+                }
+            }
+            Friction::Viscous { mu } => ([-mu * vp[0], -mu * vp[1]], 0.0),
+            Friction::Frictionless => ([0.0; 2], 0.0),
+        }
+    }
+
+    /// The measure of sliding that sticking ends at: the slip speed, and under
+    /// Coulomb-Contensou friction `sqrt(|v|^2 + rbar^2 w_n^2)` (sliding and drilling).
+    pub fn slide_measure(&self, vp: [f64; 3], wn: f64) -> f64 {
+        let rb = self.friction.rbar();
+        (vp[0] * vp[0] + vp[1] * vp[1] + rb * rb * wn * wn).sqrt()
+    }
+
+    /// Contact forces and the state derivative with the parts in `c` (several-part
+    /// equations; see the module's notes).
+    pub fn multi_dynamics(&self, c: &Contacts, y: &[f64; DIM], dy: &mut [f64; DIM]) -> Forces {
+        let k = self.mkin(y);
+        let (euler, res_n_b, res_0_b) = self.free_terms(&k);
+        let wd0 = k.to_space(add(
+            euler,
+            [
+                res_0_b[0] / self.a,
+                res_0_b[1] / self.a,
+                res_0_b[2] / self.c,
+            ],
+        ));
+        let vd0 = [0.0, 0.0, -self.g];
+        let res_n = k.to_space(res_n_b);
+        let (sys, what) = self.contact_system(c, &k, res_n, vd0, wd0);
+        let (x, diag) = sys.solve(|f, t| self.response(&k, f, t));
+        let mut out = Forces::default();
+        let (mut vd, mut wd) = (vd0, wd0);
+        let mut n_total = 0.0;
+        let mut p_friction = 0.0;
+        for j in 0..sys.n {
+            let (dv, dw) = self.response(&k, sys.force[j], sys.torque[j]);
+            vd = add(vd, scale(x[j], dv));
+            wd = add(wd, scale(x[j], dw));
+            match what[j] {
+                Unknown::SlipN { part, ft, mz } => {
+                    let n = x[j];
+                    out.n[part] = n;
+                    out.ft[part] = [n * ft[0], n * ft[1]];
+                    out.mz[part] = n * mz;
+                    out.den[part] = diag[j];
+                    n_total += n;
+                    let vp = self.part(part).point_velocity(k.v, k.w, k.e3);
+                    p_friction +=
+                        out.ft[part][0] * vp[0] + out.ft[part][1] * vp[1] + out.mz[part] * k.w[2];
+                }
+                Unknown::StickN(part) => {
+                    out.n[part] = x[j];
+                    n_total += x[j];
+                }
+                Unknown::StickT(part, axis) => out.ft[part][axis] = x[j],
+                Unknown::StickM(part) => out.mz[part] = x[j],
+            }
+        }
+        let wdb = k.to_body(wd);
+        dy[..4].copy_from_slice(&k.q.half_times_pure(k.wb));
+        dy[4..7].copy_from_slice(&wdb);
+        dy[7..10].copy_from_slice(&k.v);
+        dy[10..13].copy_from_slice(&vd);
+        let p_res = if self.has_resistance() {
+            dot(add(scale(n_total, res_n_b), res_0_b), k.wb)
+        } else {
+            0.0
+        };
+        dy[13] = -(p_friction + p_res);
+        out
+    }
+
+    /// Euler's term `I^-1 (-w x I w)` (body) and the resistance torques per unit N and not
+    /// (body).
+    fn free_terms(&self, k: &MKin) -> ([f64; 3], [f64; 3], [f64; 3]) {
+        let e = (self.a - self.c) / self.a;
+        let euler = [e * k.wb[1] * k.wb[2], -e * k.wb[0] * k.wb[2], 0.0];
+        let (res_n, res_0) = if self.has_resistance() {
+            self.resistance_at(k.wb, k.r[2], self.parts.reach())
+        } else {
+            (ZERO, ZERO)
+        };
+        (euler, res_n, res_0)
+    }
+
+    /// The contact forces' system of the parts in `c` at the kinematics `k`, with the free
+    /// accelerations (vd0, wd0) and the resistance torque per unit N `res_n` (space).
+    fn contact_system(
+        &self,
+        c: &Contacts,
+        k: &MKin,
+        res_n: [f64; 3],
+        vd0: [f64; 3],
+        wd0: [f64; 3],
+    ) -> (System, [Unknown; MAXU]) {
+        let mut sys = System::new();
+        let mut what = [Unknown::StickN(0); MAXU];
+        let contensou = self.friction.rbar() > 0.0;
+        let free = |jv: [f64; 3], jw: [f64; 3]| dot(jv, vd0) + dot(jw, wd0);
+        for i in 0..self.parts.n {
+            let p = self.part(i);
+            let arm = p.arm(k.e3);
+            let jw_n = cross(arm, EZ);
+            let rhs_n = -(free(EZ, jw_n) + p.gap_bias(k.w, k.e3));
+            match c.mode[i] {
+                Mode::Flight => {}
+                Mode::Slip => {
+                    let vp = p.point_velocity(k.v, k.w, k.e3);
+                    let (ft, mz) = self.friction_per_n(vp, k.w[2], c.dir[i]);
+                    let f = [ft[0], ft[1], 1.0];
+                    let t = add(add(cross(arm, f), scale(mz, EZ)), res_n);
+                    what[sys.n] = Unknown::SlipN { part: i, ft, mz };
+                    sys.push(f, t, EZ, jw_n, rhs_n);
+                }
+                Mode::Roll => {
+                    what[sys.n] = Unknown::StickN(i);
+                    sys.push(EZ, add(jw_n, res_n), EZ, jw_n, rhs_n);
+                    let bias = p.slip_bias(k.w, k.e3);
+                    for (axis, e) in [EX, EY].into_iter().enumerate() {
+                        let jw = cross(arm, e);
+                        what[sys.n] = Unknown::StickT(i, axis);
+                        sys.push(e, jw, e, jw, -(free(e, jw) + bias[axis]));
+                    }
+                    if contensou {
+                        what[sys.n] = Unknown::StickM(i);
+                        sys.push(ZERO, EZ, ZERO, EZ, -free(ZERO, EZ));
+                    }
+                }
+            }
+        }
+        (sys, what)
+    }
+
+    /// The gap's acceleration of part `i` from a state derivative `dy`.
+    pub fn gap_acceleration(&self, i: usize, y: &[f64; DIM], dy: &[f64; DIM]) -> f64 {
+        let k = self.mkin(y);
+        let p = self.part(i);
+        let wd = k.to_space([dy[4], dy[5], dy[6]]);
+        dy[12] + dot(wd, cross(p.arm(k.e3), EZ)) + p.gap_bias(k.w, k.e3)
+    }
+
+    /// Whether the friction a sticking part needs lies in its cone (Coulomb) or ellipse
+    /// (Coulomb-Contensou), with a pushing normal force.
+    pub fn stick_margin(&self, f: &Forces, i: usize) -> f64 {
+        let mu = self.friction.mu();
+        let rb = self.friction.rbar();
+        let t = f.ft[i][0] * f.ft[i][0] + f.ft[i][1] * f.ft[i][1];
+        let m = if rb > 0.0 { f.mz[i] / rb } else { 0.0 };
+        mu * f.n[i] - (t + m * m).sqrt()
+    }
+
+    /// Jellett's integral about the first part's lowest point: `-L . arm` (the classic
+    /// `L . (s e3 + rho ez)` for a tip sphere below G).
+    pub fn multi_jellett(&self, y: &[f64; DIM]) -> f64 {
+        let k = self.mkin(y);
+        let l = k.to_space(self.momentum(k.wb));
+        -dot(l, self.part(0).arm(k.e3))
+    }
+
+    /// A length scale of the top: its parts' largest reach.
+    pub fn reach(&self) -> f64 {
+        self.parts.reach()
+    }
+
+    /// A speed scale of the motion: reach |omega| + |v| + sqrt(g reach).
+    pub fn multi_speed_scale(&self, y: &[f64; DIM]) -> f64 {
+        let k = self.mkin(y);
+        let l = self.reach();
+        l * dot(k.w, k.w).sqrt() + dot(k.v, k.v).sqrt() + (self.g * l).sqrt()
+    }
+
+    /// The contact modes of the parts in `cand` (touching, not separating) that the
+    /// complementarity conditions allow: the largest set whose normal forces push and whose
+    /// other candidates' gaps do not close; a part whose sliding measure is below `eps`
+    /// sticks where its friction can hold it. `prev` gives the slip directions to keep.
+    pub fn resolve(&self, y: &[f64; DIM], cand: u8, prev: &Contacts, eps: f64) -> Contacts {
+        let n = self.parts.n;
+        let k = self.mkin(y);
+        let mut base = Contacts {
+            mode: [Mode::Flight; MAX_PARTS],
+            dir: prev.dir,
+        };
+        let mut want = [Mode::Flight; MAX_PARTS];
+        for i in 0..n {
+            if cand & (1 << i) == 0 {
+                continue;
+            }
+            let p = self.part(i);
+            let vp = p.point_velocity(k.v, k.w, k.e3);
+            let sp = (vp[0] * vp[0] + vp[1] * vp[1]).sqrt();
+            if sp > 0.0 {
+                base.dir[i] = [vp[0] / sp, vp[1] / sp];
+            }
+            want[i] = if self.friction.can_stick() && self.slide_measure(vp, k.w[2]) <= eps {
+                Mode::Roll
+            } else {
+                Mode::Slip
+            };
+        }
+        // Subsets of the candidates, largest first.
+        let mut subsets: Vec<u8> = (0..=cand).filter(|s| s & !cand == 0 && *s != 0).collect();
+        subsets.sort_by_key(|s| std::cmp::Reverse(s.count_ones()));
+        let mut dy = [0.0; DIM];
+        for s in subsets {
+            let mut c = base;
+            for i in 0..n {
+                if s & (1 << i) != 0 {
+                    c.mode[i] = want[i];
+                }
+            }
+            // A sticking part whose friction leaves its cone slides against that force.
+            for _ in 0..2 {
+                let f = self.multi_dynamics(&c, y, &mut dy);
+                let mut changed = false;
+                for i in 0..n {
+                    if c.mode[i] == Mode::Roll && self.stick_margin(&f, i) < 0.0 {
+                        let t = (f.ft[i][0] * f.ft[i][0] + f.ft[i][1] * f.ft[i][1]).sqrt();
+                        if t > 0.0 {
+                            c.dir[i] = [-f.ft[i][0] / t, -f.ft[i][1] / t];
+                        }
+                        c.mode[i] = Mode::Slip;
+                        changed = true;
+                    }
+                }
+                if !changed {
+                    break;
+                }
+            }
+            let f = self.multi_dynamics(&c, y, &mut dy);
+            let push = (0..n).all(|i| c.mode[i] == Mode::Flight || f.n[i] >= 0.0);
+            let open = (0..n).all(|i| {
+                cand & (1 << i) == 0
+                    || c.mode[i] != Mode::Flight
+                    || self.gap_acceleration(i, y, &dy) >= 0.0
+            });
+            if push && open {
+                return c;
+            }
+        }
+        base
+    }
+
+    /// The parts touching the floor at a state (gap within `tol` of zero) and not
+    /// separating (gap rate at most `vtol`), as a bit mask.
+    pub fn touching(&self, y: &[f64; DIM], tol: f64, vtol: f64) -> u8 {
+        let k = self.mkin(y);
+        (0..self.parts.n).fold(0, |acc, i| {
+            let p = self.part(i);
+            let on = p.gap(k.zg, k.e3) <= tol && p.gap_rate(k.v[2], k.w, k.e3) <= vtol;
+            acc | (u8::from(on) << i)
+        })
+    }
+
+    /// Puts a state on the constraints of its touching parts: G's height and vertical
+    /// velocity from the parts touching (their mean where several touch), and its whole
+    /// velocity from the first sticking part. Normalises the quaternion.
+    pub fn multi_project(&self, c: &Contacts, y: &mut [f64; DIM]) {
+        let nq = (y[0] * y[0] + y[1] * y[1] + y[2] * y[2] + y[3] * y[3]).sqrt();
+        for v in y.iter_mut().take(4) {
+            *v /= nq;
+        }
+        let k = self.mkin(y);
+        let (mut h, mut vz, mut count) = (0.0, 0.0, 0.0);
+        let mut stick = None;
+        for i in 0..self.parts.n {
+            if c.mode[i] == Mode::Flight {
+                continue;
+            }
+            let p = self.part(i);
+            h += -p.arm(k.e3)[2];
+            vz += -p.gap_rate(0.0, k.w, k.e3);
+            count += 1.0;
+            if c.mode[i] == Mode::Roll && stick.is_none() {
+                stick = Some(i);
+            }
+        }
+        if count == 0.0 {
+            return;
+        }
+        y[9] = h / count;
+        y[12] = vz / count;
+        if let Some(i) = stick {
+            let v = scale(-1.0, cross(k.w, self.part(i).arm(k.e3)));
+            y[10] = v[0];
+            y[11] = v[1];
+        }
+    }
+
+    /// The impulses at the parts of `set` (bit mask) that make their material points'
+    /// velocities what `target` gives (normal: the target normal velocity; tangential:
+    /// zero where the part sticks), each part sticking, sliding against its slip (a Coulomb
+    /// impulse) or taking no impulse: the first choice per part, in order of preference,
+    /// that is consistent (pushing impulses in the friction cone, sliding not reversed, free
+    /// parts separating) and takes no energy. Returns the state after the impulses (the
+    /// kinetic energy they take added to the dissipated energy) and which parts stick.
+    pub fn multi_impact(
+        &self,
+        y: &[f64; DIM],
+        set: u8,
+        target: [f64; MAX_PARTS],
+    ) -> ([f64; DIM], u8) {
+        let n = self.parts.n;
+        let k = self.mkin(y);
+        let parts: Vec<usize> = (0..n).filter(|i| set & (1 << i) != 0).collect();
+        let mu = if self.friction.can_stick() {
+            self.friction.mu()
+        } else {
+            0.0
+        };
+        let vp: Vec<[f64; 3]> = (0..n)
+            .map(|i| self.part(i).point_velocity(k.v, k.w, k.e3))
+            .collect();
+        let (t0, r0, _) = self.energy_parts(y);
+        // choice per part: 0 stick, 1 slide, 2 free; combinations ordered by preference
+        let m = parts.len() as u32;
+        let mut combos: Vec<Vec<u8>> = (0..3u32.pow(m))
+            .map(|mut c| {
+                (0..m)
+                    .map(|_| {
+                        let d = (c % 3) as u8;
+                        c /= 3;
+                        d
+                    })
+                    .collect()
+            })
+            .collect();
+        combos.sort_by_key(|c| {
+            let free = c.iter().filter(|&&x| x == 2).count();
+            let slide = c.iter().filter(|&&x| x == 1).count();
+            (free, slide)
+        });
+        let tol_v = 1e-12 * self.multi_speed_scale(y);
+        for combo in combos {
+            if mu == 0.0 && combo.contains(&0) {
+                continue;
+            }
+            let mut sys = System::new();
+            let mut owner = [(0usize, 0usize); MAXU];
+            for (&i, &choice) in parts.iter().zip(&combo) {
+                let p = self.part(i);
+                let arm = p.arm(k.e3);
+                let v = vp[i];
+                match choice {
+                    0 => {
+                        for (axis, e) in [EX, EY, EZ].into_iter().enumerate() {
+                            let goal = if axis == 2 { target[i] } else { 0.0 };
+                            owner[sys.n] = (i, axis);
+                            let jw = cross(arm, e);
+                            sys.push(e, jw, e, jw, goal - dot(e, v));
+                        }
+                    }
+                    1 => {
+                        let sp = (v[0] * v[0] + v[1] * v[1]).sqrt();
+                        let d = if sp > 0.0 {
+                            [v[0] / sp, v[1] / sp]
+                        } else {
+                            [0.0; 2]
+                        };
+                        let f = [-mu * d[0], -mu * d[1], 1.0];
+                        owner[sys.n] = (i, 3);
+                        sys.push(f, cross(arm, f), EZ, cross(arm, EZ), target[i] - v[2]);
+                    }
+                    _ => {}
+                }
+            }
+            let (x, _) = sys.solve(|f, t| self.response(&k, f, t));
+            // the impulse at each part
+            let mut imp = [[0.0; 3]; MAX_PARTS];
+            for j in 0..sys.n {
+                let (i, axis) = owner[j];
+                let f = sys.force[j];
+                if axis == 3 {
+                    imp[i] = add(imp[i], scale(x[j], f));
+                } else {
+                    imp[i][axis] += x[j];
+                }
+            }
+            let mut out = *y;
+            let (mut dv, mut dw) = (ZERO, ZERO);
+            for &i in &parts {
+                let (a, b) = self.response(&k, imp[i], cross(self.part(i).arm(k.e3), imp[i]));
+                dv = add(dv, a);
+                dw = add(dw, b);
+            }
+            let dwb = k.to_body(dw);
+            for ax in 0..3 {
+                out[4 + ax] += dwb[ax];
+                out[10 + ax] += dv[ax];
+            }
+            let k1 = self.mkin(&out);
+            let ok = parts.iter().zip(&combo).all(|(&i, &choice)| {
+                let pi = imp[i];
+                let after = self.part(i).point_velocity(k1.v, k1.w, k1.e3);
+                match choice {
+                    0 => {
+                        pi[2] >= 0.0
+                            && (pi[0] * pi[0] + pi[1] * pi[1]).sqrt() <= mu * pi[2] * (1.0 + 1e-12)
+                    }
+                    1 => {
+                        pi[2] >= 0.0 && vp[i][0] * after[0] + vp[i][1] * after[1] >= -tol_v * tol_v
+                    }
+                    _ => after[2] >= target[i].min(0.0) - tol_v,
+                }
+            });
+            if !ok {
+                continue;
+            }
+            let (t1, r1, _) = self.energy_parts(&out);
+            let loss = (t0 + r0) - (t1 + r1);
+            if loss < -1e-12 * (t0 + r0) {
+                continue;
+            }
+            out[13] += loss.max(0.0);
+            let sticks = parts
+                .iter()
+                .zip(&combo)
+                .fold(0u8, |acc, (&i, &ch)| acc | (u8::from(ch == 0) << i));
+            return (out, sticks);
+        }
+        (*y, 0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::rotation::quaternion_from_euler;
+
+    fn ball(friction: Friction, parts: &[Shape]) -> PlayTop {
+        PlayTop::with_parts(0.006, 8e-7, 7e-7, parts, 9.81, friction, 0.0, 0.0, 0.0, 0.0).unwrap()
+    }
+
+    /// One sphere under the several-part equations gives the one-sphere equations' right-hand
+    /// side, in every mode and friction law.
+    #[test]
+    fn one_sphere_equals_the_classic_equations() {
+        let parts = [Shape::Sphere {
+            radius: 0.015,
+            z: -0.003,
+        }];
+        let q = quaternion_from_euler(0.4, 2.1, -0.7);
+        for friction in [
+            Friction::Coulomb { mu: 0.3 },
+            Friction::Viscous { mu: 1.0 },
+            Friction::Frictionless,
+        ] {
+            let top = ball(friction, &parts);
+            assert!(top.is_classic());
+            let y = top.state(q, [3.0, -2.0, 150.0], 0.05, -0.03, None).unwrap();
+            for mode in [Mode::Slip, Mode::Roll, Mode::Flight] {
+                let (mut a, mut b) = ([0.0; DIM], [0.0; DIM]);
+                let c = top.dynamics(mode, &y, [0.6, -0.8, 0.0], &mut a);
+                let mut cs = Contacts::NONE;
+                cs.mode[0] = mode;
+                cs.dir[0] = [0.6, -0.8];
+                let f = top.multi_dynamics(&cs, &y, &mut b);
+                let scale = a.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+                for i in 0..DIM {
+                    assert!(
+                        (a[i] - b[i]).abs() <= 1e-9 * a[i].abs() + 1e-14 * scale,
+                        "{friction:?} {mode:?} {i}: {} {}",
+                        a[i],
+                        b[i]
+                    );
+                }
+                assert!((c.n - f.n[0]).abs() <= 1e-10 * c.n.abs().max(1e-12));
+            }
+        }
+    }
+}

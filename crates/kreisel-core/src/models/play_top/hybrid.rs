@@ -277,8 +277,11 @@ impl Hybrid for Multi<'_> {
         };
         match sw {
             MSwitch::Touchdown(i) => {
+                // Located a hair below the floor (1e-9 of the reach): a part released at zero
+                // gap starts at the floor up to rounding, and its touchdown must still be seen
+                // as a sign change when it closes again.
                 let k = top.mkin(y);
-                top.parts.shape[i].gap(k.zg, k.e3)
+                top.parts.shape[i].gap(k.zg, k.e3) + 1e-9 * top.reach()
             }
             MSwitch::LiftOff(i) => forces().n[i],
             MSwitch::SlipToRoll(i) => {
@@ -328,7 +331,24 @@ impl Hybrid for Multi<'_> {
                     target[i] = 0.0;
                 }
                 let (yi, _) = top.multi_impact(y, set, target);
-                *y = yi;
+                // A part the impact lifts off so slowly that it would be back within `tiny`
+                // (a rocking between two parts whose period shrinks to zero, as a rocking
+                // block's does) stays on the floor: the impact is taken again with it kept.
+                let k1 = top.mkin(&yi);
+                let mut keep = 0u8;
+                for j in 0..n {
+                    if set & (1 << j) != 0 && j != i {
+                        let vj = top.parts.shape[j].gap_rate(k1.v[2], k1.w, k1.e3);
+                        if vj > 0.0 && top.g > 0.0 && 2.0 * vj / top.g <= 1e3 * tiny {
+                            keep |= 1 << j;
+                        }
+                    }
+                }
+                *y = if keep != 0 {
+                    top.multi_impact_keeping(y, set, target, keep).0
+                } else {
+                    yi
+                };
                 self.after_impulse(y, &c, rtol)
             }
             MSwitch::SlipToRoll(i) => {

@@ -543,6 +543,7 @@ impl PlayTop {
         for v in y.iter_mut().take(4) {
             *v /= nq;
         }
+        self.fix_tilt(c, y);
         let k = self.mkin(y);
         let (mut h, mut vz, mut count) = (0.0, 0.0, 0.0);
         let mut stick = None;
@@ -570,6 +571,46 @@ impl PlayTop {
         }
     }
 
+    /// Two spheres touching at once fix the tilt: `zg + z_i u - r_i = 0` for both gives
+    /// `u = (r_i - r_j) / (z_i - z_j)`. Puts the orientation on that tilt (a rotation about
+    /// the horizontal axis `ez x e3`) and removes the tilting rate (the angular velocity's
+    /// component along that axis); the kinetic energy that removal takes, of the order of the
+    /// integration's error, is added to the dissipated energy.
+    fn fix_tilt(&self, c: &Contacts, y: &mut [f64; DIM]) {
+        let on: Vec<usize> = (0..self.parts.n)
+            .filter(|&i| c.mode[i] != Mode::Flight)
+            .collect();
+        if on.len() < 2 {
+            return;
+        }
+        let (Shape::Sphere { radius: ri, z: zi }, Shape::Sphere { radius: rj, z: zj }) =
+            (*self.part(on[0]), *self.part(on[1]));
+        if (zi - zj).abs() <= 1e-12 * self.reach() {
+            return;
+        }
+        let u_star = (ri - rj) / (zi - zj);
+        if u_star.abs() >= 1.0 {
+            return;
+        }
+        let k = self.mkin(y);
+        let axis = cross(EZ, k.e3);
+        let s = dot(axis, axis).sqrt();
+        if s <= 1e-12 {
+            return;
+        }
+        let n = scale(1.0 / s, axis);
+        let delta = u_star.acos() - k.e3[2].clamp(-1.0, 1.0).acos();
+        let q = Quat::from_axis_angle(n, delta).hamilton(k.q).normalized();
+        y[..4].copy_from_slice(&q.0);
+        let (t0, r0, _) = self.energy_parts(y);
+        let w = add(k.w, scale(-dot(k.w, n), n));
+        let k1 = self.mkin(y);
+        let wb = k1.to_body(w);
+        y[4..7].copy_from_slice(&wb);
+        let (t1, r1, _) = self.energy_parts(y);
+        y[13] += ((t0 + r0) - (t1 + r1)).max(0.0);
+    }
+
     /// The impulses at the parts of `set` (bit mask) that make their material points'
     /// velocities what `target` gives (normal: the target normal velocity; tangential:
     /// zero where the part sticks), each part sticking, sliding against its slip (a Coulomb
@@ -582,6 +623,18 @@ impl PlayTop {
         y: &[f64; DIM],
         set: u8,
         target: [f64; MAX_PARTS],
+    ) -> ([f64; DIM], u8) {
+        self.multi_impact_keeping(y, set, target, 0)
+    }
+
+    /// [`Self::multi_impact`] where the parts of `keep` (bit mask) take an impulse (they may
+    /// not separate).
+    pub fn multi_impact_keeping(
+        &self,
+        y: &[f64; DIM],
+        set: u8,
+        target: [f64; MAX_PARTS],
+        keep: u8,
     ) -> ([f64; DIM], u8) {
         let n = self.parts.n;
         let k = self.mkin(y);
@@ -616,6 +669,13 @@ impl PlayTop {
         let tol_v = 1e-12 * self.multi_speed_scale(y);
         for combo in combos {
             if mu == 0.0 && combo.contains(&0) {
+                continue;
+            }
+            if parts
+                .iter()
+                .zip(&combo)
+                .any(|(&i, &ch)| ch == 2 && keep & (1 << i) != 0)
+            {
                 continue;
             }
             let mut sys = System::new();

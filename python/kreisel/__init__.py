@@ -8,14 +8,13 @@
 SI units and radians throughout; arrays are numpy arrays.
 """
 
-from . import events
+from . import events, shapes
 from ._atlas import Classification, Prediction, RegularPrecession, StationaryMotion
 from ._batch import BatchSummary, HeavyBatchSummary, simulate_many
 from ._core import __version__
 from ._errors import KreiselError, NumericalError, ParameterError
 from ._heavy import HeavyTop, RigidState
 from ._lagrange import LagrangeTop
-from . import shapes
 from ._play import Coulomb, CoulombContensou, Frictionless, PlayState, PlayTop, Viscous
 from ._simulate import Event, EventRecord, MethodInfo, methods, simulate
 from ._state import EulerState, Invariants, NutationAnalysis

@@ -290,7 +290,7 @@ class PlayTop:
             self._native = _core.PlayTop(
                 p["m"], p["A"], p["C"], p["s"], p["rho"], p["g"], friction._native, *rest,  # type: ignore[arg-type]
             )  # fmt: skip
-            self._shape = (Sphere(p["rho"], -p["s"], "tip"),)
+            self._shape: tuple[Sphere, ...] = (Sphere(p["rho"], -p["s"], "tip"),)
         else:
             try:
                 self._native = _core.PlayTop.with_parts(
@@ -337,6 +337,7 @@ class PlayTop:
             "are the theory of a tip sphere, and need the first part to be a sphere of positive "
             "radius at or below the centre of mass (z <= 0)"
         )
+
     u_m = property(
         lambda self: _atlas.u_m(self._atlas_top()),
         doc="Where J_R(u) has its minimum on the real line; None for type I tops.",

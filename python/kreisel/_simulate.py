@@ -261,10 +261,11 @@ def simulate(
     )  # fmt: skip
     stats, status = out.pop("stats"), out.pop("status")
     names_of_parts = getattr(model, "part_names", None)
-    records = [
-        EventRecord(name, t, index, None if part < 0 or names_of_parts is None else names_of_parts[part])
-        for name, t, index, part in out.pop("events")
-    ]
+
+    def part_name(i: int) -> str | None:
+        return None if i < 0 or names_of_parts is None else names_of_parts[i]
+
+    records = [EventRecord(name, t, index, part_name(p)) for name, t, index, p in out.pop("events")]
     later = Deferred(out.pop("run").columns)
     cols = dict.fromkeys(out.pop("derived"), later)
     if "mode" in out:

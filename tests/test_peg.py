@@ -224,3 +224,42 @@ def test_simulate_many_and_summaries_report_the_parts():
     assert (b.final_parts_in_contact == 2).all()  # bit 1: the peg alone
     assert np.all((b.first_touchdown_time[:, 1] > 1.0) & (b.first_touchdown_time[:, 1] < 2.0))
     assert np.isnan(b.first_touchdown_time[:, 0]).all()
+
+
+def _slip_coefficient(top, st, mu):
+    """The slip mode's denominator from Newton-Euler in the space frame (a second formulation
+    of the core's): the contact height's acceleration per unit normal force,
+    1/m + (a x ez) . I^-1 (a x (ez + f)), with f = -mu v_T/|v_T| and a = G -> T."""
+    from scipy.spatial.transform import Rotation
+
+    rot = Rotation.from_quat(np.r_[st.quaternion[1:], st.quaternion[:1]])
+    e3 = rot.apply([0.0, 0.0, 1.0])
+    ez = np.array([0.0, 0.0, 1.0])
+    a = -top.s * e3 - top.rho * ez
+    w = rot.apply(st.omega)
+    vt = st.com_velocity + np.cross(w, a)
+    f = ez - mu * np.r_[vt[:2], 0.0] / np.hypot(*vt[:2])
+    inv_i = rot.as_matrix() @ np.diag([1 / top.A, 1 / top.A, 1 / top.C]) @ rot.as_matrix().T
+    return 1 / top.m + np.cross(a, ez) @ inv_i @ np.cross(a, f)
+
+
+@pytest.mark.parametrize("friction", [Coulomb(0.5), CoulombContensou(0.5, 1e-4)])
+def test_the_painleve_case_is_resolved_by_a_tangential_impact(friction):
+    """A tall top (s = 5 cm, radius of gyration 1 cm) sliding with mu = 0.5: at theta = 0.12
+    sliding along +y has no consistent normal force (the slip mode's denominator is negative
+    while gravity presses the tip down). The run takes a tangential impact that stops the slip
+    (Painleve's paradox; Genot & Brogliato, Eur. J. Mech. A/Solids 18 (1999) 653), and the tip
+    hops off the floor, as chalk pushed over a board does; it never passes through it."""
+    from scipy.spatial.transform import Rotation
+
+    top = PlayTop(0.1, 1e-5, 2e-6, 0.05, 0.002, friction=friction)
+    st = top.state(theta=0.12, vy=2.0)
+    assert _slip_coefficient(top, st, 0.5) < 0  # and the free acceleration of the tip is -g
+    tr = kreisel.simulate(top, st, 0.05, t_eval=np.linspace(0.0, 0.05, 51))
+    assert [e.name for e in tr.events][:1] == ["tangential_impact"] and tr.events[0].t == 0.0
+    assert tr.slip_speed[0] < 1e-9  # the impact stopped the slip
+    e3 = Rotation.from_quat(tr.quaternion[:, [1, 2, 3, 0]]).apply([0.0, 0.0, 1.0])
+    tip = tr.com[:, 2] - top.s * e3[:, 2] - top.rho
+    assert (tip > -1e-9).all()
+    assert tr.energy[0] < top.energy(st)  # the impact took energy
+    assert np.diff(tr.energy).max() <= 1e-12

@@ -148,6 +148,14 @@ impl PyPlayTop {
         })
     }
 
+    /// Sliding's own coefficient at a packed contact state (1/kg): the contact height's
+    /// acceleration per unit normal force with the Coulomb force against the slip (or along
+    /// `-dir` at zero slip); zero or negative is the Painleve case.
+    fn slip_coefficient(&self, s: Packed, dir: [f64; 2]) -> f64 {
+        self.inner
+            .slip_coefficient(&pack(&s), [dir[0], dir[1], 0.0])
+    }
+
     /// Whether the top runs on the one-sphere equations.
     #[getter]
     fn classic(&self) -> bool {

@@ -22,6 +22,9 @@ pub enum Switch {
     RollToSlip,
     /// The sphere reaches the floor.
     Touchdown,
+    /// Sliding's own coefficient (the gap's acceleration per unit normal force, friction
+    /// included) falls towards zero: the Painleve case, ended by a tangential impact.
+    Jam,
 }
 
 impl Switch {
@@ -32,13 +35,15 @@ impl Switch {
             Switch::SlipToRoll => "slip_to_roll",
             Switch::RollToSlip => "roll_to_slip",
             Switch::Touchdown => "touchdown",
+            Switch::Jam => "tangential_impact",
         }
     }
 
     /// The switches watched in `mode`, in the order they are handed to the event locator
     /// (Coulomb friction alone can stick).
-    pub fn watched(mode: Mode, coulomb: bool) -> &'static [Switch] {
+    pub fn watched(mode: Mode, coulomb: bool, jam: bool) -> &'static [Switch] {
         match (mode, coulomb) {
+            (Mode::Slip, true) if jam => &[Switch::LiftOff, Switch::SlipToRoll, Switch::Jam],
             (Mode::Slip, true) => &[Switch::LiftOff, Switch::SlipToRoll],
             (Mode::Slip, false) => &[Switch::LiftOff],
             (Mode::Roll, _) => &[Switch::LiftOff, Switch::RollToSlip],
@@ -64,13 +69,30 @@ impl PlayTop {
     /// The mode a state starts in, and the state put on its constraint; `rtol` is the
     /// integration's (it sets the [`PlayTop::slip_tolerance`]).
     pub fn initial_phase(&self, y: &mut [f64; DIM], rtol: f64) -> Phase {
+        self.initial_phase_jam(y, rtol).0
+    }
+
+    /// [`Self::initial_phase`], and whether the start needed a tangential impact (sliding
+    /// with no consistent normal force, the Painleve case).
+    pub fn initial_phase_jam(&self, y: &mut [f64; DIM], rtol: f64) -> (Phase, bool) {
         let mode = self.settle(self.initial_mode(y), y, rtol);
-        self.project(mode, y);
-        Phase {
+        let phase = Phase {
             mode,
             dir: [0.0; 3],
             hop: f64::INFINITY,
+        };
+        if mode == Mode::Flight && self.height(y) <= 1e-12 * self.rho && self.jammed(y, [0.0; 3]) {
+            // Sliding has no consistent normal force at the start (the Painleve case).
+            return (self.switch(Switch::Jam, &phase, y, rtol), true);
         }
+        self.project(mode, y);
+        (phase, false)
+    }
+
+    /// Whether sliding at a contact state is in the Painleve case: its own coefficient at or
+    /// below [`PlayTop::jam_level`] while a top that may jam ([`PlayTop::may_jam`]) slides.
+    fn jammed(&self, y: &[f64; DIM], dir: [f64; 3]) -> bool {
+        self.may_jam(-self.s, self.rho) && self.slip_coefficient(y, dir) <= self.jam_level()
     }
 
     /// The mode a state starts in.
@@ -121,7 +143,35 @@ impl PlayTop {
                 mu * c.n - (c.ft[0] * c.ft[0] + c.ft[1] * c.ft[1]).sqrt()
             }
             Switch::Touchdown => self.height(y),
+            Switch::Jam => self.slip_coefficient(y, phase.dir) - self.jam_level(),
         }
+    }
+
+    /// The level of sliding's own coefficient (1/kg) at which a sliding contact is taken to
+    /// jam: a hundredth of a free point mass's 1/m. The normal force grows as the coefficient's
+    /// inverse on the way there.
+    pub fn jam_level(&self) -> f64 {
+        1e-2 / self.m
+    }
+
+    /// Whether sliding at a part centred at `z` with radius `r` can ever jam: its own
+    /// coefficient is at least `1/m - mu |z| (|z| + r) / min(A, C)` (the normal part's
+    /// contribution is positive, the friction's at most mu times the arms' product over the
+    /// smallest moment), so below the jam level only when that bound is.
+    pub fn may_jam(&self, z: f64, r: f64) -> bool {
+        self.friction.can_stick()
+            && 1.0 / self.m - self.friction.mu() * z.abs() * (z.abs() + r) / self.a.min(self.c)
+                <= self.jam_level()
+    }
+
+    /// Sliding's own coefficient at a state: the acceleration of the contact's height per
+    /// unit normal force, friction included (1/kg); the slip mode's denominator.
+    pub fn slip_coefficient(&self, y: &[f64; DIM], dir: [f64; 3]) -> f64 {
+        let mut dy = [0.0; DIM];
+        let mut c = super::multi::Contacts::NONE;
+        c.mode[0] = Mode::Slip;
+        c.dir[0] = [dir[0], dir[1]];
+        self.multi_dynamics(&c, y, &mut dy).den[0]
     }
 
     /// The mode a contact slides in, unless its slip is below the slip tolerance and rolling
@@ -189,11 +239,40 @@ impl PlayTop {
                 if ft > 0.0 {
                     dir = [-c.ft[0] / ft, -c.ft[1] / ft, 0.0];
                 }
+                if self.slip_normal(y, dir) < 0.0 && self.jammed(y, dir) {
+                    let jam = Phase {
+                        mode: Mode::Slip,
+                        dir,
+                        hop,
+                    };
+                    return self.switch(Switch::Jam, &jam, y, rtol);
+                }
                 mode = if self.slip_normal(y, dir) < 0.0 {
                     hop = f64::INFINITY;
                     Mode::Flight
                 } else {
                     Mode::Slip
+                };
+            }
+            Switch::Jam => {
+                // The tangential impact: an impulse that stops the slip, sticking if the
+                // cone allows, else sliding until the slip along its direction is gone.
+                let (yi, sticks) = self.multi_impact(y, 1, [0.0; 4]);
+                *y = yi;
+                mode = if sticks != 0 && self.roll_admissible(y).0 {
+                    Mode::Roll
+                } else {
+                    let (_, c) = self.roll_admissible(y);
+                    let ft = (c.ft[0] * c.ft[0] + c.ft[1] * c.ft[1]).sqrt();
+                    if ft > 0.0 {
+                        dir = [-c.ft[0] / ft, -c.ft[1] / ft, 0.0];
+                    }
+                    if self.slip_normal(y, dir) < 0.0 {
+                        hop = f64::INFINITY;
+                        Mode::Flight
+                    } else {
+                        Mode::Slip
+                    }
                 };
             }
             Switch::Touchdown => {
@@ -222,6 +301,14 @@ impl PlayTop {
                 } else {
                     Mode::Slip
                 };
+                if mode == Mode::Slip && self.slip_normal(y, dir) < 0.0 && self.jammed(y, dir) {
+                    let jam = Phase {
+                        mode: Mode::Slip,
+                        dir,
+                        hop,
+                    };
+                    return self.switch(Switch::Jam, &jam, y, rtol);
+                }
                 if mode == Mode::Slip && self.slip_normal(y, dir) < 0.0 {
                     // Sliding would need the floor to pull: the top leaves it again, with
                     // no normal speed, so the flight's length is not known in advance.

@@ -29,8 +29,9 @@ pub(crate) trait Hybrid {
     type Phase: Copy;
     /// A switch of contact, located as an event of the phase it ends.
     type Switch: Copy;
-    /// The phase a state starts in (the state put on its constraints).
-    fn start(&self, y: &mut [f64; DIM], rtol: f64) -> Self::Phase;
+    /// The phase a state starts in (the state put on its constraints), and the part of a
+    /// tangential impact the start needed (the Painleve case), if any.
+    fn start(&self, y: &mut [f64; DIM], rtol: f64) -> (Self::Phase, Option<usize>);
     /// The switches watched in a phase.
     fn watched(&self, phase: &Self::Phase) -> Vec<Self::Switch>;
     /// Whether a switch is the classic lift-off (whose normal force the last right-hand side
@@ -76,11 +77,14 @@ pub(crate) struct Classic<'a>(pub &'a PlayTop);
 impl Hybrid for Classic<'_> {
     type Phase = Phase;
     type Switch = Switch;
-    fn start(&self, y: &mut [f64; DIM], rtol: f64) -> Phase {
-        self.0.initial_phase(y, rtol)
+    fn start(&self, y: &mut [f64; DIM], rtol: f64) -> (Phase, Option<usize>) {
+        let (phase, jam) = self.0.initial_phase_jam(y, rtol);
+        (phase, jam.then_some(0))
     }
     fn watched(&self, phase: &Phase) -> Vec<Switch> {
-        Switch::watched(phase.mode, self.0.friction.can_stick()).to_vec()
+        let top = self.0;
+        let jam = top.may_jam(-top.s, top.rho);
+        Switch::watched(phase.mode, top.friction.can_stick(), jam).to_vec()
     }
     fn is_lift_off(&self, sw: Switch) -> bool {
         sw == Switch::LiftOff
@@ -132,7 +136,7 @@ pub enum MSwitch {
     /// The friction a sticking part needs leaves its cone (or ellipse).
     RollToSlip(usize),
     /// A sliding part's own coefficient falls towards zero (the Painleve case): a tangential
-    /// impact.
+    /// impact ([`PlayTop::jam_level`]).
     Jam(usize),
 }
 
@@ -173,10 +177,9 @@ pub struct MPhase {
 pub(crate) struct Multi<'a>(pub &'a PlayTop);
 
 impl Multi<'_> {
-    /// The own coefficient below which a sliding part is taken to jam: a thousandth of a
-    /// free point mass's (1/m).
+    /// The own coefficient below which a sliding part is taken to jam.
     fn jam_level(&self) -> f64 {
-        1e-3 / self.0.m
+        self.0.jam_level()
     }
 
     /// After an impulse: the parts touching and not separating resolved into modes, the
@@ -211,16 +214,17 @@ impl Hybrid for Multi<'_> {
     type Phase = MPhase;
     type Switch = MSwitch;
 
-    fn start(&self, y: &mut [f64; DIM], rtol: f64) -> MPhase {
+    fn start(&self, y: &mut [f64; DIM], rtol: f64) -> (MPhase, Option<usize>) {
         let top = self.0;
         let l = top.reach();
         let cand = top.touching(y, 1e-12 * l, f64::INFINITY);
         let eps = self.tolerance(y, rtol);
-        let mut contacts = if cand == 0 {
-            Contacts::NONE
+        let (mut contacts, jam) = if cand == 0 {
+            (Contacts::NONE, false)
         } else {
-            top.resolve(y, cand, &Contacts::NONE, eps)
+            top.resolve_jam(y, cand, &Contacts::NONE, eps)
         };
+        let jam = jam.then(|| cand.trailing_zeros() as usize);
         // A part that starts sticking with a round-off slip is stopped exactly.
         for i in 0..top.parts.n {
             if contacts.mode[i] == Mode::Roll {
@@ -233,18 +237,22 @@ impl Hybrid for Multi<'_> {
             contacts = Contacts::NONE;
         }
         top.multi_project(&contacts, y);
-        MPhase {
-            contacts,
-            hop: f64::INFINITY,
-        }
+        (
+            MPhase {
+                contacts,
+                hop: f64::INFINITY,
+            },
+            jam,
+        )
     }
 
     fn watched(&self, phase: &MPhase) -> Vec<MSwitch> {
         let top = self.0;
         let stick = top.friction.can_stick();
-        let jam = stick && top.friction.mu() > 0.0;
         let mut out = Vec::with_capacity(3 * top.parts.n);
         for i in 0..top.parts.n {
+            let p = &top.parts.shape[i];
+            let jam = top.may_jam(p.reach() - p.radius(), p.radius());
             match phase.contacts.mode[i] {
                 Mode::Flight => out.push(MSwitch::Touchdown(i)),
                 Mode::Slip => {
@@ -498,7 +506,15 @@ pub(crate) fn drive<H: Hybrid>(
     let t_end = settings.t_end;
     let mut info = RunInfo::default();
     let mut y = *y0;
-    let mut phase = h.start(&mut y, settings.rtol);
+    let (mut phase, jam) = h.start(&mut y, settings.rtol);
+    if let Some(part) = jam {
+        info.events.push(EventRecord {
+            index: None,
+            name: "tangential_impact".into(),
+            t: 0.0,
+            part: Some(part),
+        });
+    }
     let mut t = 0.0;
     let mut next_sample = 0usize;
     // Each inversion event fires once.

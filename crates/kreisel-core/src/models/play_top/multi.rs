@@ -457,7 +457,41 @@ impl PlayTop {
     /// complementarity conditions allow: the largest set whose normal forces push and whose
     /// other candidates' gaps do not close; a part whose sliding measure is below `eps`
     /// sticks where its friction can hold it. `prev` gives the slip directions to keep.
-    pub fn resolve(&self, y: &[f64; DIM], cand: u8, prev: &Contacts, eps: f64) -> Contacts {
+    pub fn resolve(&self, y: &mut [f64; DIM], cand: u8, prev: &Contacts, eps: f64) -> Contacts {
+        self.resolve_jam(y, cand, prev, eps).0
+    }
+
+    /// [`Self::resolve`], and whether it took a tangential impact.
+    pub fn resolve_jam(
+        &self,
+        y: &mut [f64; DIM],
+        cand: u8,
+        prev: &Contacts,
+        eps: f64,
+    ) -> (Contacts, bool) {
+        if let Some(c) = self.resolve_at(y, cand, prev, eps) {
+            return (c, false);
+        }
+        // No set is consistent (the Painleve case: sliding would need the floor to pull while
+        // the contact is pressed into it): a tangential impact, the impulse that stops the
+        // candidates' slip, then the modes again.
+        let (yi, _) = self.multi_impact(y, cand, [0.0; MAX_PARTS]);
+        *y = yi;
+        let c = self.resolve_at(y, cand, prev, eps).unwrap_or_else(|| {
+            let mut c = Contacts::NONE;
+            for i in 0..self.parts.n {
+                if cand & (1 << i) != 0 {
+                    c.mode[i] = Mode::Slip;
+                }
+            }
+            c
+        });
+        (c, true)
+    }
+
+    /// [`Self::resolve`] without the impact: None where no set (the empty one included) is
+    /// consistent.
+    fn resolve_at(&self, y: &[f64; DIM], cand: u8, prev: &Contacts, eps: f64) -> Option<Contacts> {
         let n = self.parts.n;
         let k = self.mkin(y);
         let mut base = Contacts {
@@ -482,7 +516,7 @@ impl PlayTop {
             };
         }
         // Subsets of the candidates, largest first.
-        let mut subsets: Vec<u8> = (0..=cand).filter(|s| s & !cand == 0 && *s != 0).collect();
+        let mut subsets: Vec<u8> = (0..=cand).filter(|s| s & !cand == 0).collect();
         subsets.sort_by_key(|s| std::cmp::Reverse(s.count_ones()));
         let mut dy = [0.0; DIM];
         for s in subsets {
@@ -518,10 +552,10 @@ impl PlayTop {
                     || self.gap_acceleration(i, y, &dy) >= 0.0
             });
             if push && open {
-                return c;
+                return Some(c);
             }
         }
-        base
+        None
     }
 
     /// The parts touching the floor at a state (gap within `tol` of zero) and not

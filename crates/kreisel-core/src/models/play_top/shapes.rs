@@ -63,6 +63,13 @@ impl Shape {
         }
     }
 
+    /// The part's radius of curvature at its lowest point (a sphere's radius).
+    pub fn radius(&self) -> f64 {
+        match *self {
+            Shape::Sphere { radius, .. } => radius,
+        }
+    }
+
     /// The vector from G to the part's lowest point (space frame), `e3` the figure axis.
     #[inline(always)]
     pub fn arm(&self, e3: [f64; 3]) -> [f64; 3] {

@@ -263,3 +263,19 @@ def test_the_painleve_case_is_resolved_by_a_tangential_impact(friction):
     assert (tip > -1e-9).all()
     assert tr.energy[0] < top.energy(st)  # the impact took energy
     assert np.diff(tr.energy).max() <= 1e-12
+
+
+def test_a_sweep_of_the_tippe_preset_over_the_patch_radius(tmp_path):
+    """Sweeps take tops with parts: the spin and the patch radius swept over the preset (Leine
+    and Glocker's top); a point contact (R = 0) never gets the peg down, the patch does."""
+    spec = {
+        "top": {"preset": "tippe"},
+        "simulation": {"t_end": 2.0},
+        "grid": {"psi_dot": [180.0], "patch_radius": [0.0, 5e-4]},
+        "output": {"keep": ["inversion_time", "final_parts_in_contact", "first_touchdown_time_1"]},
+    }
+    ds = kreisel.sweep(spec, tmp_path / "s.zarr", progress=False)
+    parts = ds["final_parts_in_contact"].values.ravel()
+    touch = ds["first_touchdown_time_1"].values.ravel()
+    assert parts.tolist() == [1, 2]  # ball alone (bit 0), peg alone (bit 1)
+    assert np.isnan(touch[0]) and touch[1] == pytest.approx(1.371, abs=1e-3)

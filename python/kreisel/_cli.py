@@ -176,15 +176,17 @@ def heavy(**kw):
 @_opt("--friction", "friction", "contact law [coulomb]", type=click.Choice(FRICTIONS))
 @_opt("--mu", "mu", "friction coefficient (Coulomb: 1; viscous: s/m) [0.3; viscous 1]",
       type=float)  # fmt: skip
+@_opt("--patch-radius", "patch_radius",
+      "contact patch radius of coulomb_contensou friction (m) [5e-4]", type=float)  # fmt: skip
 @_opt("--restitution", "restitution", "of impacts after a flight, in [0, 1] [0]", type=float)
 @_opt("--rolling-resistance", "rolling_resistance", "rolling loss length (m) [0]", type=float)
 @_opt("--drilling-resistance", "drilling_resistance", "drilling loss length (m) [0]",
       type=float)  # fmt: skip
 @_opt("--air-drag", "air_drag", "air torque per rad/s (N m s) [0]", type=float)
 def play(**kw):
-    """Top with a spherical tip on a floor (tippe top)."""
-    top = _take(kw, "m", "A", "C", "s", "rho", "g", "friction", "mu", "restitution",
-                "rolling_resistance", "drilling_resistance", "air_drag")  # fmt: skip
+    """Top on a floor: a spherical tip, or the parts of a preset (tippe top with its peg)."""
+    top = _take(kw, "m", "A", "C", "s", "rho", "g", "friction", "mu", "patch_radius",
+                "restitution", "rolling_resistance", "drilling_resistance", "air_drag")  # fmt: skip
     state = _take(kw, *_EULER, "vx", "vy", "height")
     sim = _take(kw, "t_end", "rtol", "atol", "samples")
     _go("play", top, state, sim, kw)
@@ -504,6 +506,15 @@ def _report(problem, data: dict, out: Path):
             + f"; final u = {_num(res['final']['u'], '.5f')} ({res['final']['mode']})"
             + (f"; u rose through 0.9 at t = {_num(inv, '.4f')} s" if inv is not None else "")
         )
+        parts = res.get("parts", {})
+        if len(parts) > 1:
+            words = {"touchdown": "touches", "lift_off": "leaves"}
+            steps = [e for e in res["events"] if e.get("part") and e["name"] in words]
+            shown = ", ".join(f"{e['part']} {words[e['name']]} {_num(e['t'], '.4f')} s"
+                              for e in steps[:6])  # fmt: skip
+            more = f" (+{len(steps) - 6} more)" if len(steps) > 6 else ""
+            end = ", ".join(n for n, p in parts.items() if p["in_contact_at_end"]) or "none"
+            click.echo(f"  contacts: {shown or 'no change'}{more}; on the floor at the end: {end}")
     drift = ", ".join(f"{k} {_num(v, '.1e')}" for k, v in res["invariant_drift"].items())
     if drift:
         click.echo(f"  largest relative drift: {drift}")

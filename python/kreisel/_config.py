@@ -13,19 +13,19 @@ from ._errors import ParameterError
 from ._presets import PRESETS
 
 KINDS = ("lagrange", "heavy", "play")
-FRICTIONS = ("coulomb", "viscous", "none")
+FRICTIONS = ("coulomb", "viscous", "none", "coulomb_contensou")
 _EULER = ("theta", "phi", "psi", "theta_dot", "phi_dot", "psi_dot")
 
 TOP_FIELDS = {
     "lagrange": ("I1", "I3", "m", "l", "g"),
     "heavy": ("I1", "I2", "I3", "m", "com", "g"),
-    "play": ("m", "A", "C", "s", "rho", "g", "friction", "mu", "restitution",
-             "rolling_resistance", "drilling_resistance", "air_drag"),
+    "play": ("m", "A", "C", "s", "rho", "shape", "g", "friction", "mu", "patch_radius",
+             "restitution", "rolling_resistance", "drilling_resistance", "air_drag"),
 }  # fmt: skip
 REQUIRED = {
     "lagrange": ("I1", "I3", "m", "l"),
     "heavy": ("I1", "I2", "I3", "m", "com"),
-    "play": ("m", "A", "C", "s", "rho"),
+    "play": ("m", "A", "C"),  # and either s and rho or shape
 }
 STATE_FIELDS = {
     "lagrange": _EULER,
@@ -38,6 +38,13 @@ DEFAULT_T_END = {"lagrange": 2.0, "heavy": 2.0, "play": 5.0}
 # a command-line run records every step (with its diagnostics): about 110 bytes each
 MAX_RECORDED_STEPS = 2e7
 MAX_SAMPLES = 10_000_000
+
+
+def required(kind: str, top: dict) -> tuple[str, ...]:
+    """The fields a top of ``kind`` needs: a play top s and rho unless it has a shape."""
+    if kind == "play" and "shape" not in top:
+        return (*REQUIRED[kind], "s", "rho")
+    return REQUIRED[kind]
 
 
 def known_presets() -> str:
@@ -135,6 +142,13 @@ def overlay(base: dict, over: dict) -> dict:
         if table == "top" and "friction" in given and "mu" not in given:
             # another law: the base's coefficient (other units, or none) does not carry over
             out["top"].pop("mu", None)
+        if table == "top" and "friction" in given and given["friction"] != "coulomb_contensou":
+            out["top"].pop("patch_radius", None)
+        if table == "top" and ("s" in given or "rho" in given):
+            out["top"].pop("shape", None)  # a tip sphere replaces the base's parts
+        if table == "top" and "shape" in given:
+            out["top"].pop("s", None)
+            out["top"].pop("rho", None)
         out[table].update(given)
     return out
 
@@ -189,11 +203,13 @@ def from_tables(tables: dict, *, prefix: str = "", source: str = "") -> Problem:
     _check_fields(where("top"), top, TOP_FIELDS[kind], f"of a {kind} top")
     _check_fields(where("state"), state, STATE_FIELDS[kind], f"of a {kind} top's state")
     _check_fields(where("simulation"), sim, SIMULATION_FIELDS, "of the simulation")
-    for name in REQUIRED[kind]:
+    needed = required(kind, top)
+    for name in needed:
         if name not in top:
             raise ParameterError(
                 f"{where('top')}{name} is missing: a {kind} top needs "
-                f"{', '.join(REQUIRED[kind])} (g defaults to 9.81 m/s^2)"
+                f"{', '.join(needed)} (g defaults to 9.81 m/s^2)"
+                + (" or, instead of s and rho, shape" if kind == "play" else "")
             )
     model = _model(kind, top, where("top"))
     st = _state(kind, model, state, where("state"))
@@ -205,7 +221,7 @@ def from_tables(tables: dict, *, prefix: str = "", source: str = "") -> Problem:
 def _model(kind: str, top: dict, where: str):
     from ._heavy import HeavyTop
     from ._lagrange import LagrangeTop
-    from ._play import Coulomb, Frictionless, PlayTop, Viscous
+    from ._play import Coulomb, CoulombContensou, Frictionless, PlayTop, Viscous
 
     try:
         if kind == "lagrange":
@@ -215,6 +231,14 @@ def _model(kind: str, top: dict, where: str):
         p = dict(top)
         friction = p.pop("friction", "coulomb")
         mu = p.pop("mu", None)
+        patch = p.pop("patch_radius", None)
+        if patch is not None and friction != "coulomb_contensou":
+            raise ParameterError(
+                f"patch_radius = {patch!r} is not allowed with friction = {friction!r}: it is "
+                "the contact patch of friction = 'coulomb_contensou'"
+            )
+        if "shape" in p:
+            p["shape"] = _parts(p["shape"])
         if friction not in FRICTIONS:
             raise ParameterError(
                 f"friction = {friction!r} is not allowed: use one of {', '.join(FRICTIONS)}"
@@ -222,14 +246,40 @@ def _model(kind: str, top: dict, where: str):
         if friction == "none":
             if mu is not None and mu != 0:
                 raise ParameterError(f"mu = {mu!r} is not allowed with friction = 'none'")
-            law: Frictionless | Viscous | Coulomb = Frictionless()
+            law: Frictionless | Viscous | Coulomb | CoulombContensou = Frictionless()
         elif friction == "viscous":
             law = Viscous(mu=1.0 if mu is None else mu)
+        elif friction == "coulomb_contensou":
+            law = CoulombContensou(0.3 if mu is None else mu, 5e-4 if patch is None else patch)
         else:
             law = Coulomb(mu=0.3 if mu is None else mu)
         return PlayTop(friction=law, **p)
     except ParameterError as e:
         raise ParameterError(f"{where}{e}") from None
+
+
+def _parts(shape) -> list:
+    """The parts of a ``shape`` field: an array of tables ``{radius, z, name}`` (spheres)."""
+    from .shapes import Sphere
+
+    if not isinstance(shape, list) or not shape:
+        raise ParameterError(
+            f"shape = {shape!r} is not allowed: it must be an array of parts, each a table "
+            "{ radius = ..., z = ..., name = ... } (a sphere)"
+        )
+    out = []
+    for i, part in enumerate(shape):
+        if not isinstance(part, dict):
+            raise ParameterError(f"shape[{i}] must be a table {{ radius, z, name }}, not "
+                                 f"{_kind_of(part)}")  # fmt: skip
+        extra = set(part) - {"radius", "z", "name", "kind"}
+        if extra or part.get("kind", "sphere") != "sphere" or not {"radius", "z"} <= set(part):
+            raise ParameterError(
+                f"shape[{i}] = {part!r} is not allowed: a part is a table with radius and z "
+                "(and optionally name; kind = 'sphere')"
+            )
+        out.append(Sphere(part["radius"], part["z"], part.get("name")))
+    return out
 
 
 def _state(kind: str, model, state: dict, where: str):

@@ -52,10 +52,19 @@ def conserved(traj):
         return []
     if "jellett" in cols:
         balance = np.asarray(traj.energy + traj.dissipated)
-        return [
-            ("jellett", "Jellett's J", np.asarray(traj.jellett), abs(traj.jellett[0])),
-            ("energy_balance", "E + dissipated", balance, abs(balance[0])),
-        ]
+        out = [("energy_balance", "E + dissipated", balance, abs(balance[0]))]
+        # Jellett's integral is conserved by forces at one contact point, not by a drilling
+        # torque (Coulomb-Contensou friction) nor by forces at several parts.
+        model = getattr(traj, "model", None)
+        one_point = model is None or (
+            len(getattr(model, "shape", (None,))) == 1
+            and type(getattr(model, "friction", None)).__name__ != "CoulombContensou"
+        )
+        if one_point:
+            out.insert(
+                0, ("jellett", "Jellett's J", np.asarray(traj.jellett), abs(traj.jellett[0]))
+            )
+        return out
     lag = lagrange_columns(traj)
     source = lag if lag is not None else {k: traj[k] for k, _ in _RIGID if k in cols}
     big_l = _angular_momentum(traj)

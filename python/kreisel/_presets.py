@@ -17,8 +17,12 @@ _TOY_SLOW = 8.131813622444362
 # its axle (I1 = m R^2/4 + m l^2); steady precession at theta = pi/2 with omega3 = 600 rad/s.
 _GYRO = {"I1": 3.712e-4, "I3": 1.024e-4, "m": 0.2, "l": 0.04, "g": 9.81}
 _GYRO_RATE = 1.27734375
-# The tippe top of the demo and BENCHMARKS case T1: a 20 g ball of radius 2 cm, centre of
-# mass 6 mm off the centre (alpha = 0.3), C = 0.4 m rho^2, A = 0.8 C (gamma = 0.8).
+# The tippe top of the peg issue: Leine and Glocker's (Eur. J. Mech. A/Solids 22 (2003) 193),
+# PHYSICS notes 4.4: a ball of 15 mm with a peg of 5 mm radius whose centre is 16 mm from the
+# centre of mass, Coulomb-Contensou friction mu = 0.3 over a patch of 0.5 mm.
+# The ball alone ("tippe-ball"), of the demo and BENCHMARKS case T1: a 20 g ball of radius
+# 2 cm, centre of mass 6 mm off the centre (alpha = 0.3), C = 0.4 m rho^2, A = 0.8 C
+# (gamma = 0.8).
 _TIPPE_C = 0.4 * 0.02 * 0.02**2
 # A toy top on a spherical tip: 100 g, centre of mass 3 cm above the tip's centre, C = 2e-5,
 # A = 1.6e-5 kg m^2 about the centre of mass, Coulomb friction mu = 0.05 (a smooth floor).
@@ -103,7 +107,27 @@ PRESETS = {
         ),
         Preset(
             "tippe",
-            "tippe top: 20 g ball, r = 2 cm, alpha 0.3, gamma 0.8, spun at 150 rad/s; turns over",
+            "tippe top with its peg (Leine & Glocker 2003): turns over onto the peg at 1.4 s",
+            {
+                "kind": "play",
+                "m": 6e-3,
+                "A": 8e-7,
+                "C": 7e-7,
+                "shape": [
+                    {"radius": 0.015, "z": -0.003, "name": "ball"},
+                    {"radius": 0.005, "z": -0.016, "name": "peg"},
+                ],
+                "g": 9.81,
+                "friction": "coulomb_contensou",
+                "mu": 0.3,
+                "patch_radius": 5e-4,
+            },  # fmt: skip
+            {"theta": 3.0415926535897933, "psi_dot": 180.0},
+            {"t_end": 8.0, "rtol": 1e-9},
+        ),
+        Preset(
+            "tippe-ball",
+            "tippe top, its ball alone: 20 g, r = 2 cm, alpha 0.3, gamma 0.8, 150 rad/s",
             {
                 "kind": "play",
                 "m": 0.02,

@@ -106,7 +106,10 @@ def summary(problem: Problem, traj) -> dict:
     if stats:
         res["stats"] = dict(stats)
     evs = getattr(traj, "events", None) or []
-    res["events"] = [{"name": e.name, "t": e.t} for e in evs[:1000]]
+    res["events"] = [
+        {"name": e.name, "t": e.t, **({"part": e.part} if getattr(e, "part", None) else {})}
+        for e in evs[:1000]
+    ]
     if len(evs) > 1000:
         res["events_left_out"] = len(evs) - 1000
     res["final"] = {k: traj[k][-1] for k in ("theta", "phi", "psi") if k in traj.columns}
@@ -116,6 +119,20 @@ def summary(problem: Problem, traj) -> dict:
         res["inversion_time"] = inv[0] if inv else None
         res["dissipated"] = traj.dissipated[-1]
         res["modes"] = {m: int(np.count_nonzero(traj.mode == m)) for m in names()["modes"]}
+        if len(traj):
+            touching = traj.part_in_contact[-1]
+            res["parts"] = {
+                name: {
+                    "in_contact_at_end": bool(touching[i]),
+                    "first_touchdown": next(
+                        (e.t for e in evs if e.name == "touchdown" and e.part == name), None
+                    ),
+                    "first_lift_off": next(
+                        (e.t for e in evs if e.name == "lift_off" and e.part == name), None
+                    ),
+                }
+                for i, name in enumerate(traj.part_names)
+            }
     res["invariant_drift"] = {
         k: float(relative_drift(y, scale).max()) for k, _l, y, scale in conserved(traj)
     }

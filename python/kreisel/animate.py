@@ -114,6 +114,8 @@ def shape_of(model: HeavyTop | LagrangeTop | PlayTop) -> Shape:
     from ._play import PlayTop
 
     zero = np.zeros(3)
+    if isinstance(model, PlayTop) and model._given_shape:
+        return _parts_shape(model)
     if isinstance(model, PlayTop):
         rho, s = model.rho, model.s
         if s < rho:
@@ -163,6 +165,38 @@ def shape_of(model: HeavyTop | LagrangeTop | PlayTop) -> Shape:
            (h, 0.9 * radius), (h, 0.0)]  # fmt: skip
     z, r, tip = _profile(pts)
     return Shape(z, r, np.array(com, dtype=float), tip, h, rod=bool(np.linalg.norm(com) > 0))
+
+
+def _parts_shape(model) -> Shape:
+    """The drawn shape of a top given by its parts: their union along the axis (each sphere
+    as it is, joined by a thin neck where two parts do not meet), so that nothing drawn
+    reaches below the lowest part: the floor is never crossed. Measured from the body
+    origin the frames use (``com - s e3``); the parts other than the first in steel."""
+    s = model.s
+    spheres = [(p.z + s, p.radius) for p in model.shape]
+    lo = min(z - r for z, r in spheres)
+    hi = max(z + r for z, r in spheres)
+    zs = np.unique(np.r_[np.linspace(lo, hi, 97), [z for z, _ in spheres]])
+    r = np.zeros_like(zs)
+    owner: np.ndarray = np.zeros(len(zs), dtype=int)
+    for i, (zc, rc) in enumerate(spheres):
+        inside = np.abs(zs - zc) <= rc
+        ri = np.sqrt(np.clip(rc * rc - (zs - zc) ** 2, 0.0, None))
+        better = inside & (ri > r)
+        r[better], owner[better] = ri[better], i
+    # necks between parts that do not meet
+    order = sorted(range(len(spheres)), key=lambda i: spheres[i][0])
+    for a, b in zip(order, order[1:]):
+        (za, ra), (zb, rb) = spheres[a], spheres[b]
+        neck = 0.5 * min(ra, rb) if min(ra, rb) > 0 else 0.05 * max(ra, rb, 1e-3)
+        between = (zs > za) & (zs < zb)
+        thin = between & (r < neck)
+        r[thin], owner[thin] = neck, b
+    r[0] = r[-1] = 0.0
+    tip = owner[:-1] != 0
+    first = spheres[0][0]
+    far = hi if abs(hi - first) >= abs(lo - first) else lo
+    return Shape(zs, r, np.zeros(3), tip, float(far))
 
 
 def _mesh(shape: Shape, around: int):

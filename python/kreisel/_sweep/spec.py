@@ -166,7 +166,7 @@ class SweepSpec:
             )
         if not grid and not random:
             # a field that is wrong is the first thing to say (issue 19, item 13)
-            if all(k in top for k in _config.REQUIRED[kind]):
+            if all(k in top for k in _config.required(kind, top)):
                 model = _config._model(kind, dict(top), f"{head}[top] ")
                 _config._state(kind, model, dict(state), f"{head}[state] ")
             raise ParameterError(
@@ -438,7 +438,9 @@ class SweepSpec:
 def _plain(d: dict) -> dict:
     out: dict[str, Any] = {}
     for k, v in d.items():
-        if isinstance(v, (np.ndarray, list, tuple)):
+        if isinstance(v, (list, tuple)) and v and all(isinstance(x, dict) for x in v):
+            out[k] = [_plain(x) for x in v]  # a shape: its parts' tables
+        elif isinstance(v, (np.ndarray, list, tuple)):
             out[k] = [float(x) for x in v]
         elif isinstance(v, (bool, str)) or v is None:
             out[k] = v
@@ -448,7 +450,7 @@ def _plain(d: dict) -> dict:
 
 
 def _sweepable(kind: str) -> tuple:
-    top = [f for f in _config.TOP_FIELDS[kind] if f not in ("friction", "com")]
+    top = [f for f in _config.TOP_FIELDS[kind] if f not in ("friction", "com", "shape")]
     if kind == "heavy":
         top += ["com_x", "com_y", "com_z"]
     return (*top, *_config._EULER, *(("vx", "vy", "height") if kind == "play" else ()))

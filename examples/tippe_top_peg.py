@@ -1,0 +1,64 @@
+"""A tippe top turning over onto its peg: Leine and Glocker's top over 8 s
+======================================================================
+
+Figure: Leine and Glocker's tippe top (a 15 mm ball with a 5 mm peg, Coulomb-Contensou
+friction mu = 0.3 over a 0.5 mm patch; PHYSICS notes 4.4) spun at 180 rad/s near hanging:
+u = cos(theta), the normal force at each part, the spin and the energy, with the parts in
+contact shaded (ball, both, peg).
+
+    python examples/tippe_top_peg.py [OUT_DIR]
+
+It turns over on its ball, the peg touches at 1.37 s and the ball leaves the floor at that
+instant; it spins on its peg while the drilling friction wears its spin down, falls back
+when the spin drops below the peg's sleeping threshold (|J| < J_R(1) of the one-sphere
+theory applied to the peg, the dotted line), rocks between ball and peg, rests on both (the
+seed's critical moment) and ends on its ball. Writes tippe_top_peg.png.
+"""
+
+import numpy as np
+from _common import out_dir, pyplot
+
+import kreisel
+from kreisel.shapes import Sphere
+
+plt = pyplot()
+out = out_dir()
+M, A, C = 6e-3, 8e-7, 7e-7
+top = kreisel.PlayTop(
+    M, A, C,
+    shape=[Sphere(0.015, z=-0.003, name="ball"), Sphere(0.005, z=-0.016, name="peg")],
+    friction=kreisel.CoulombContensou(mu=0.3, radius=5e-4),
+)  # fmt: skip
+run = kreisel.simulate(top, top.state(theta=np.pi - 0.1, psi_dot=180.0), 8.0,
+                       t_eval=np.linspace(0.0, 8.0, 4001))  # fmt: skip
+t = run.t
+touch = run.part_in_contact
+# the spin at which standing on the peg stops being stable: J_R(1) of the peg as a tip sphere
+threshold = kreisel.PlayTop(M, A, C, s=0.016, rho=0.005).J_R(1.0) / (C * (0.016 + 0.005))
+
+fig, axes = plt.subplots(4, 1, figsize=(8, 9), sharex=True)
+colours = {(True, False): "#f2d7b6", (True, True): "#c9b3e6", (False, True): "#b6d7f2"}
+for ax in axes:
+    for (ball, peg), colour in colours.items():
+        on = (touch[:, 0] == ball) & (touch[:, 1] == peg)
+        ax.fill_between(t, 0, 1, where=on, color=colour, transform=ax.get_xaxis_transform(),
+                        linewidth=0)  # fmt: skip
+axes[0].plot(t, run.u, color="k")
+axes[0].set_ylabel("u = cos(theta)")
+axes[1].plot(t, run.part_normal_force[:, 0], label="ball")
+axes[1].plot(t, run.part_normal_force[:, 1], label="peg")
+axes[1].axhline(M * 9.81, color="grey", lw=0.6)
+axes[1].set_ylabel("normal force (N)")
+axes[1].legend(loc="upper right")
+axes[2].plot(t, np.abs(run.omega[:, 2]), color="k")
+axes[2].axhline(threshold, color="k", ls=":", lw=0.8)
+axes[2].set_ylabel("|omega_3| (rad/s)")
+axes[3].plot(t, run.energy * 1e3, color="k", label="E")
+axes[3].plot(t, (run.energy + run.dissipated) * 1e3, color="grey", ls="--", label="E + dissipated")
+axes[3].set_ylabel("energy (mJ)")
+axes[3].set_xlabel("t (s)")
+axes[3].legend(loc="upper right")
+fig.suptitle("tippe top with its peg: ball (tan), both (violet), peg (blue) on the floor")
+fig.tight_layout()
+fig.savefig(out / "tippe_top_peg.png", dpi=100)
+print(f"wrote {out / 'tippe_top_peg.png'}")

@@ -61,6 +61,7 @@ bench: $(EXT)
 	$(PY) benchmarks/bench_mujoco.py
 	$(PY) benchmarks/bench_play.py
 	$(PY) benchmarks/bench_tippe_mujoco.py
+	$(PY) benchmarks/bench_tippe_peg_mujoco.py
 	$(PY) benchmarks/bench_sweep.py
 
 # The documentation site (docs/) into docs/_build/html: the guide, theory, API reference, the

@@ -4,7 +4,7 @@
 //! Coulomb-Contensou friction, [`super::multi`]).
 
 use super::contact::{Phase, Switch};
-use super::multi::Contacts;
+use super::multi::{Contacts, Forces};
 use super::simulate::{integrate_phase, LastRhs, PlayRow};
 use super::{Mode, PlayTop, DIM};
 use crate::error::{KreiselError, Result};
@@ -173,10 +173,37 @@ pub struct MPhase {
     pub hop: f64,
 }
 
-/// The several-part rules of [`super::multi`].
-pub(crate) struct Multi<'a>(pub &'a PlayTop);
+/// The several-part rules of [`super::multi`]. `last` keeps the forces of the last
+/// right-hand side evaluated (its state and contacts as the key): the integrator evaluates it
+/// at the end of every accepted step just before the events are checked there, so the events
+/// that need the forces (lift-off, roll-to-slip, the jam) take them instead of solving again.
+pub(crate) struct Multi<'a>(pub &'a PlayTop, pub Cell<Option<Solved>>);
 
-impl Multi<'_> {
+/// The forces of one state and set of contacts (see [`Multi`]).
+#[derive(Clone, Copy)]
+pub(crate) struct Solved {
+    y: [f64; 13],
+    contacts: Contacts,
+    forces: Forces,
+}
+
+impl<'a> Multi<'a> {
+    /// The rules of `top`, nothing evaluated yet.
+    pub(crate) fn new(top: &'a PlayTop) -> Self {
+        Multi(top, Cell::new(None))
+    }
+
+    /// The forces at `y` with `contacts`, from the last right-hand side where it was there.
+    fn forces(&self, contacts: &Contacts, y: &[f64; DIM]) -> Forces {
+        if let Some(s) = self.1.get() {
+            if s.y[..] == y[..13] && s.contacts == *contacts {
+                return s.forces;
+            }
+        }
+        let mut dy = [0.0; DIM];
+        self.0.multi_dynamics(contacts, y, &mut dy)
+    }
+
     /// The own coefficient below which a sliding part is taken to jam.
     fn jam_level(&self) -> f64 {
         self.0.jam_level()
@@ -196,13 +223,18 @@ impl Multi<'_> {
             top.resolve(y, cand, prev, eps)
         };
         let k = top.mkin(y);
-        // The fastest separating part's flight, for the step limit.
+        // The fastest separating part's flight, for the step limit; a separation slower than
+        // the bounces that are absorbed (a round-off velocity) limits nothing.
+        let tiny = 1e-6 * (top.reach() / top.g.max(1e-300)).sqrt();
         let mut hop = f64::INFINITY;
         for i in 0..top.parts.n {
             let p = &top.parts.shape[i];
             let vn = p.gap_rate(k.v[2], k.w, k.e3);
             if contacts.mode[i] == Mode::Flight && vn > 0.0 && top.g > 0.0 {
-                hop = hop.min(2.0 * vn / top.g);
+                let flight = 2.0 * vn / top.g;
+                if flight > tiny {
+                    hop = hop.min(flight);
+                }
             }
         }
         top.multi_project(&contacts, y);
@@ -279,10 +311,7 @@ impl Hybrid for Multi<'_> {
 
     fn value(&self, sw: MSwitch, phase: &MPhase, y: &[f64; DIM], eps: f64) -> f64 {
         let top = self.0;
-        let forces = || {
-            let mut dy = [0.0; DIM];
-            top.multi_dynamics(&phase.contacts, y, &mut dy)
-        };
+        let forces = || self.forces(&phase.contacts, y);
         match sw {
             MSwitch::Touchdown(i) => {
                 // Located a hair below the floor (1e-9 of the reach): a part released at zero
@@ -465,6 +494,7 @@ impl Hybrid for Multi<'_> {
             &MultiSystem {
                 top: self.0,
                 contacts: phase.contacts,
+                last: &self.1,
             },
             t,
             y,
@@ -478,16 +508,25 @@ impl Hybrid for Multi<'_> {
     }
 }
 
-/// The several-part equations with the parts' modes fixed.
+/// The several-part equations with the parts' modes fixed; every right-hand side's forces
+/// are left in `last`.
 struct MultiSystem<'a> {
     top: &'a PlayTop,
     contacts: Contacts,
+    last: &'a Cell<Option<Solved>>,
 }
 
 impl OdeSystem<DIM> for MultiSystem<'_> {
     #[inline]
     fn rhs(&self, _t: f64, y: &[f64; DIM], dy: &mut [f64; DIM]) {
-        self.top.multi_dynamics(&self.contacts, y, dy);
+        let forces = self.top.multi_dynamics(&self.contacts, y, dy);
+        let mut key = [0.0; 13];
+        key.copy_from_slice(&y[..13]);
+        self.last.set(Some(Solved {
+            y: key,
+            contacts: self.contacts,
+            forces,
+        }));
     }
     fn project(&self, y: &mut [f64; DIM]) {
         self.top.multi_project(&self.contacts, y);

@@ -128,28 +128,40 @@ pub struct Forces {
 /// A linear system in contact forces (or impulses): columns are wrenches (force and torque
 /// about G, space frame), rows measure the response of a material point's velocity
 /// (`jv . dv + jw . dw`), the right-hand side what the row must change by.
-struct System {
+struct System<const U: usize> {
     n: usize,
-    force: [[f64; 3]; MAXU],
-    torque: [[f64; 3]; MAXU],
-    jv: [[f64; 3]; MAXU],
-    jw: [[f64; 3]; MAXU],
-    rhs: [f64; MAXU],
+    force: [[f64; 3]; U],
+    torque: [[f64; 3]; U],
+    jv: [[f64; 3]; U],
+    jw: [[f64; 3]; U],
+    rhs: [f64; U],
+    /// The (dv, dw) each wrench makes ([`System::responses`]).
+    dv: [[f64; 3]; U],
+    dw: [[f64; 3]; U],
+    /// The unknowns and the matrix's diagonal ([`System::solve`]).
+    x: [f64; U],
+    diag: [f64; U],
 }
 
-impl System {
-    fn new() -> System {
+impl<const U: usize> System<U> {
+    #[inline(always)]
+    fn new() -> System<U> {
         System {
             n: 0,
-            force: [ZERO; MAXU],
-            torque: [ZERO; MAXU],
-            jv: [ZERO; MAXU],
-            jw: [ZERO; MAXU],
-            rhs: [0.0; MAXU],
+            force: [ZERO; U],
+            torque: [ZERO; U],
+            jv: [ZERO; U],
+            jw: [ZERO; U],
+            rhs: [0.0; U],
+            dv: [ZERO; U],
+            dw: [ZERO; U],
+            x: [0.0; U],
+            diag: [0.0; U],
         }
     }
 
     /// Adds an unknown (its wrench) with its row.
+    #[inline(always)]
     fn push(&mut self, force: [f64; 3], torque: [f64; 3], jv: [f64; 3], jw: [f64; 3], rhs: f64) {
         let i = self.n;
         self.force[i] = force;
@@ -161,29 +173,44 @@ impl System {
     }
 
     /// The unknowns, and the matrix's diagonal; `resp(f, t)` is the (dv, dw) a wrench makes.
-    fn solve(
-        &self,
-        resp: impl Fn([f64; 3], [f64; 3]) -> ([f64; 3], [f64; 3]),
-    ) -> ([f64; MAXU], [f64; MAXU]) {
+    /// The (dv, dw) each unknown's wrench makes; `resp(f, t)` gives one.
+    #[inline(always)]
+    fn responses(&mut self, resp: impl Fn([f64; 3], [f64; 3]) -> ([f64; 3], [f64; 3])) {
+        for c in 0..self.n {
+            (self.dv[c], self.dw[c]) = resp(self.force[c], self.torque[c]);
+        }
+    }
+
+    /// The unknowns and the matrix's diagonal, from the wrenches' responses.
+    #[inline(always)]
+    fn solve(&mut self) {
         let n = self.n;
-        let mut a = [[0.0; MAXU]; MAXU];
+        let (dv, dw) = (&self.dv, &self.dw);
+        if n == 1 {
+            // One unknown (one part sliding): no elimination.
+            let a = dot(self.jv[0], dv[0]) + dot(self.jw[0], dw[0]);
+            self.diag[0] = a;
+            self.x[0] = if a != 0.0 { self.rhs[0] / a } else { 0.0 };
+            return;
+        }
+        let (x, diag) = (&mut self.x, &mut self.diag);
+        let mut a = [[0.0; U]; U];
         for c in 0..n {
-            let (dv, dw) = resp(self.force[c], self.torque[c]);
             for r in 0..n {
-                a[r][c] = dot(self.jv[r], dv) + dot(self.jw[r], dw);
+                a[r][c] = dot(self.jv[r], dv[c]) + dot(self.jw[r], dw[c]);
             }
         }
-        let mut diag = [0.0; MAXU];
+        let mut big = 0.0f64;
         for i in 0..n {
             diag[i] = a[i][i];
+            for j in 0..n {
+                big = big.max(a[i][j].abs());
+            }
         }
         let mut b = self.rhs;
-        let big = (0..n)
-            .flat_map(|r| a[r][..n].iter().map(|x| x.abs()).collect::<Vec<_>>())
-            .fold(0.0, f64::max);
         // Gaussian elimination with partial pivoting; a pivot that vanishes against the
         // matrix's size is a redundant constraint, whose unknown is left at zero.
-        let mut skip = [false; MAXU];
+        let mut skip = [false; U];
         for k in 0..n {
             let p = (k..n)
                 .max_by(|&i, &j| a[i][k].abs().total_cmp(&a[j][k].abs()))
@@ -204,7 +231,6 @@ impl System {
                 }
             }
         }
-        let mut x = [0.0; MAXU];
         for k in (0..n).rev() {
             if skip[k] {
                 continue;
@@ -212,7 +238,6 @@ impl System {
             let s: f64 = (k + 1..n).map(|j| a[k][j] * x[j]).sum();
             x[k] = (b[k] - s) / a[k][k];
         }
-        (x, diag)
     }
 }
 
@@ -298,6 +323,22 @@ impl PlayTop {
     /// Contact forces and the state derivative with the parts in `c` (several-part
     /// equations; see the module's notes).
     pub fn multi_dynamics(&self, c: &Contacts, y: &[f64; DIM], dy: &mut [f64; DIM]) -> Forces {
+        // All touching parts sliding: one unknown per part, a small system.
+        if c.mode[..self.parts.n].contains(&Mode::Roll) {
+            self.dynamics_of::<MAXU>(c, y, dy)
+        } else {
+            self.dynamics_of::<MAX_PARTS>(c, y, dy)
+        }
+    }
+
+    /// [`Self::multi_dynamics`] with systems of at most `U` unknowns.
+    #[inline(always)]
+    fn dynamics_of<const U: usize>(
+        &self,
+        c: &Contacts,
+        y: &[f64; DIM],
+        dy: &mut [f64; DIM],
+    ) -> Forces {
         let k = self.mkin(y);
         let (euler, res_n_b, res_0_b) = self.free_terms(&k);
         let wd0 = k.to_space(add(
@@ -310,16 +351,19 @@ impl PlayTop {
         ));
         let vd0 = [0.0, 0.0, -self.g];
         let res_n = k.to_space(res_n_b);
-        let (sys, what) = self.contact_system(c, &k, res_n, vd0, wd0);
-        let (x, diag) = sys.solve(|f, t| self.response(&k, f, t));
+        let mut sys = System::<U>::new();
+        let mut what = [Unknown::StickN(0); U];
+        self.contact_system(c, &k, res_n, vd0, wd0, &mut sys, &mut what);
+        sys.responses(|f, t| self.response(&k, f, t));
+        sys.solve();
+        let (x, diag, dvs, dws) = (&sys.x, &sys.diag, &sys.dv, &sys.dw);
         let mut out = Forces::default();
         let (mut vd, mut wd) = (vd0, wd0);
         let mut n_total = 0.0;
         let mut p_friction = 0.0;
         for j in 0..sys.n {
-            let (dv, dw) = self.response(&k, sys.force[j], sys.torque[j]);
-            vd = add(vd, scale(x[j], dv));
-            wd = add(wd, scale(x[j], dw));
+            vd = add(vd, scale(x[j], dvs[j]));
+            wd = add(wd, scale(x[j], dws[j]));
             match what[j] {
                 Unknown::SlipN { part, ft, mz } => {
                     let n = x[j];
@@ -369,16 +413,18 @@ impl PlayTop {
 
     /// The contact forces' system of the parts in `c` at the kinematics `k`, with the free
     /// accelerations (vd0, wd0) and the resistance torque per unit N `res_n` (space).
-    fn contact_system(
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    fn contact_system<const U: usize>(
         &self,
         c: &Contacts,
         k: &MKin,
         res_n: [f64; 3],
         vd0: [f64; 3],
         wd0: [f64; 3],
-    ) -> (System, [Unknown; MAXU]) {
-        let mut sys = System::new();
-        let mut what = [Unknown::StickN(0); MAXU];
+        sys: &mut System<U>,
+        what: &mut [Unknown; U],
+    ) {
         let contensou = self.friction.rbar() > 0.0;
         let free = |jv: [f64; 3], jw: [f64; 3]| dot(jv, vd0) + dot(jw, wd0);
         for i in 0..self.parts.n {
@@ -412,7 +458,6 @@ impl PlayTop {
                 }
             }
         }
-        (sys, what)
     }
 
     /// The gap's acceleration of part `i` from a state derivative `dy`.
@@ -712,7 +757,7 @@ impl PlayTop {
             {
                 continue;
             }
-            let mut sys = System::new();
+            let mut sys = System::<MAXU>::new();
             let mut owner = [(0usize, 0usize); MAXU];
             for (&i, &choice) in parts.iter().zip(&combo) {
                 let p = self.part(i);
@@ -741,7 +786,9 @@ impl PlayTop {
                     _ => {}
                 }
             }
-            let (x, _) = sys.solve(|f, t| self.response(&k, f, t));
+            sys.responses(|f, t| self.response(&k, f, t));
+            sys.solve();
+            let x = sys.x;
             // the impulse at each part
             let mut imp = [[0.0; 3]; MAX_PARTS];
             for j in 0..sys.n {

@@ -86,7 +86,7 @@ impl Model for PlayTop {
         if self.is_classic() {
             drive(&Classic(self), self, y0, settings, keep_going, sink)
         } else {
-            drive(&Multi(self), self, y0, settings, keep_going, sink)
+            drive(&Multi::new(self), self, y0, settings, keep_going, sink)
         }
     }
 

@@ -522,23 +522,10 @@ def _num(x, spec=".6g"):
 
 
 def _to_toml(name: str, tables: dict) -> str:
+    from ._config import to_toml
     from ._presets import PRESETS
 
-    def value(v):
-        if isinstance(v, str):
-            return '"' + v.replace("\\", "\\\\").replace('"', '\\"') + '"'
-        if isinstance(v, bool):
-            return "true" if v else "false"
-        if isinstance(v, (list, tuple)):
-            return "[" + ", ".join(value(x) for x in v) + "]"
-        return repr(v)
-
-    lines = [f"# {PRESETS[name].summary}", "# kreisel run FILE.toml", ""]
-    for table in ("top", "state", "simulation"):
-        lines.append(f"[{table}]")
-        lines += [f"{k} = {value(v)}" for k, v in tables[table].items()]
-        lines.append("")
-    return "\n".join(lines)
+    return to_toml(tables, [PRESETS[name].summary, "kreisel run FILE.toml"])
 
 
 def _fail(message: str, code: int, command: str | None = None) -> int:

@@ -393,6 +393,32 @@ def sweep_command(file, store, scheduler, threads, var, overwrite, retry_failed,
         click.echo(f"  figure {png}")
 
 
+@cli.command(context_settings=_CONTEXT)
+@click.option(
+    "--port",
+    type=click.IntRange(0, 65535),
+    default=8765,
+    show_default=True,
+    help="port on 127.0.0.1 (0: any free port)",
+)
+@click.option("--no-browser", is_flag=True, help="open no browser; print the address only")
+@click.option(
+    "--store",
+    type=click.Path(file_okay=False, path_type=Path),
+    default=None,
+    help="folder of sweep stores the page may open (none outside it)",
+)
+def explore(port, no_browser, store):
+    """The tops in a browser: a local page (127.0.0.1 only) with a live 3D view, charts,
+    the atlas, sweeps and export. Ctrl+C stops it."""
+    from .explore import serve
+
+    def ready(url):
+        click.echo(f"kreisel explore: serving {url} (Ctrl+C stops)", err=True)
+
+    serve(port, open_browser=not no_browser, store=store, ready=ready)
+
+
 def _dask_process(role, args):
     import os
 

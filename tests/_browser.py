@@ -12,6 +12,8 @@ import time
 import urllib.request
 from pathlib import Path
 
+import pytest
+
 CHROMIUM = "/usr/bin/chromium"
 CHROMEDRIVER = "/usr/bin/chromedriver"
 
@@ -24,6 +26,35 @@ def free_port() -> int:
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
         return s.getsockname()[1]
+
+
+def tippe_sweep(path: Path) -> Path:
+    """A small sweep store at ``path``: the tippe preset over 2 values of s and 2 of A."""
+    import kreisel
+
+    spec = {"top": {"preset": "tippe"}, "grid": {"s": [0.004, 0.006], "A": [2.4e-6, 2.56e-6]}}
+    kreisel.sweep(spec, str(path), progress=False)
+    return path
+
+
+@pytest.fixture(scope="module", name="store")
+def store_fixture(tmp_path_factory):
+    """A folder of sweep stores for ``--store``: tippe.zarr, and link.zarr, a symbolic link to
+    a store outside it."""
+    root = tmp_path_factory.mktemp("stores")
+    tippe_sweep(root / "tippe.zarr")
+    outside = tmp_path_factory.mktemp("outside")
+    tippe_sweep(outside / "secret.zarr")
+    os.symlink(outside / "secret.zarr", root / "link.zarr")
+    return root
+
+
+@pytest.fixture(scope="module", name="server")
+def server_fixture(store):
+    """``kreisel explore --store`` the folder of :func:`store_fixture`, for a test module."""
+    s = Server(store=store)
+    yield s
+    s.stop()
 
 
 class Server:

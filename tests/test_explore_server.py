@@ -7,42 +7,22 @@ from __future__ import annotations
 import http.client
 import io
 import json
-import os
 import socket
 import subprocess
 import sys
 from pathlib import Path
 
+import _browser
 import numpy as np
 import pytest
-from _browser import Server
 
 import kreisel
 from kreisel._config import preset
 from kreisel.explore import _api
 from kreisel.explore._geometry import axis_tip, body_parts
 
-
-@pytest.fixture(scope="module")
-def store(tmp_path_factory):
-    root = tmp_path_factory.mktemp("stores")
-    spec = {
-        "top": {"preset": "tippe"},
-        "simulation": {"t_end": 4.0},
-        "grid": {"s": [0.004, 0.006], "A": [2.4e-6, 2.56e-6]},
-    }
-    kreisel.sweep(spec, str(root / "tippe.zarr"), progress=False)
-    outside = tmp_path_factory.mktemp("outside")
-    kreisel.sweep(spec, str(outside / "secret.zarr"), progress=False)
-    os.symlink(outside / "secret.zarr", root / "link.zarr")
-    return root
-
-
-@pytest.fixture(scope="module")
-def server(store):
-    s = Server(store=store)
-    yield s
-    s.stop()
+# the fixtures store (a folder of sweep stores) and server (kreisel explore --store it)
+store, server = _browser.store_fixture, _browser.server_fixture
 
 
 def request(server, method, path, body=None, headers=None):

@@ -83,7 +83,8 @@ export class Charts {
   setCursor(t) {
     for (const { plot, cursor } of this.plots) {
       const x = plot.valToPos(t, 'x');
-      cursor.style.left = `${x}px`;
+      // a transform moves the cursor's own layer: the chart under it is not painted again
+      cursor.style.transform = `translateX(${x}px)`;
       cursor.dataset.t = String(t);
     }
   }

@@ -131,6 +131,7 @@ function fillPresets(kind) {
 // ---------------------------------------------------------------------------------------
 
 const view = new View3D($('view3d'));
+state.view = view;
 const charts = new Charts($('charts'));
 const atlas = new Atlas($('atlas-plane'), $('jr'), (alpha, gamma) => pickAlphaGamma(alpha, gamma));
 const sweepMap = new SweepMap($('sweep-map'), (index) => openCell(index));

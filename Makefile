@@ -29,7 +29,8 @@ setup: $(EXT) $(VENDOR_STAMP)
 # npm installs exactly those versions and the files the page loads are copied into the
 # package (static/vendor, not in git). The page loads nothing from the network.
 $(VENDOR_STAMP): web/package.json web/package-lock.json
-	@command -v npm >/dev/null || { echo "npm (Node.js) is required: apt-get install -y npm"; exit 1; }
+	@command -v npm >/dev/null || { echo "installing Debian's npm (Node.js) for the page's JavaScript"; \
+		apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq npm; }
 	npm ci --prefix web --ignore-scripts --no-audit --no-fund --loglevel=error
 	mkdir -p $(VENDOR)
 	cp web/node_modules/three/build/three.module.min.js \

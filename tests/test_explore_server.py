@@ -282,3 +282,23 @@ def test_a_heavy_top_is_its_inertia_ellipsoid_on_an_arm_from_the_pivot():
         rtol=1e-12,
     )
     assert body["center"] == rod["end"] == [0.02, 0.0, 0.0] and pivot["role"] == "pivot"
+
+
+def test_the_command_refuses_a_store_that_is_not_a_folder_and_a_port_in_use(tmp_path, capsys):
+    from kreisel._cli import main
+
+    missing = tmp_path / "nothing-here"
+    assert main(["explore", "--no-browser", "--store", str(missing)]) == 2
+    err = capsys.readouterr().err
+    assert err.strip() == (
+        f"kreisel explore: error: store = {str(missing)!r} is not allowed: it is not a folder"
+    )
+    with socket.socket() as taken:
+        taken.bind(("127.0.0.1", 0))
+        taken.listen(1)
+        port = taken.getsockname()[1]
+        assert main(["explore", "--no-browser", "--port", str(port)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(
+        f"kreisel explore: error: port = {port} is not allowed: 127.0.0.1:{port} "
+    )

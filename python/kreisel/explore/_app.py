@@ -31,6 +31,8 @@ async def _json(request: Request):
         return json.loads(await request.body())
     except (ValueError, UnicodeDecodeError) as e:
         raise _api.RequestError(f"the request body is not JSON: {e}") from None
+    except RecursionError:
+        raise _api.RequestError("the request body nests arrays or objects too deeply") from None
 
 
 def _error(e: Exception) -> JSONResponse:

@@ -5,7 +5,7 @@ its playback, in Debian's headless Chromium (the harness of tests/test_explore_b
 
 Writes main.png (the 3D view and the charts), atlas.png, sweeps.png, export.png and
 kovalevskaya.png, and prints the frames per second reached while playing a long run (a
-tippe top over 120 s, 20001 samples) at real time. Headless Chromium draws WebGL in
+tippe top over 120 s, 20001 samples) at real time, in three rounds of 4 s. Headless Chromium draws WebGL in
 software (SwiftShader), so the rate is a lower bound of what a browser on a GPU reaches.
 """
 
@@ -81,7 +81,7 @@ def main() -> None:
         }
         kreisel.sweep(spec, str(Path(tmp) / "tippe-s-A.zarr"), progress=False)
         server = Server(store=Path(tmp))
-        driver = chromium(1400, 1050)
+        driver = chromium(1400, 1450)
         try:
             open_page(driver, server.url)
             seek(driver, 2.45)
@@ -112,10 +112,12 @@ def main() -> None:
                 "document.getElementById('run').click();"
             )
             wait_for(driver, "return window.explore.run.t.length === 20001", 60)
-            fps = frame_rate(driver)
+            # three rounds: the machine may be shared, and the rate follows its load
+            rates = sorted(frame_rate(driver, 4.0) for _ in range(3))
             print(
-                f"frame rate playing a 120 s run of 20001 samples: {fps:.1f} frames/s "
-                "(headless Chromium, software WebGL)"
+                "frame rate playing a 120 s run of 20001 samples at real time: "
+                + ", ".join(f"{r:.1f}" for r in rates)
+                + f" frames/s (median {rates[1]:.1f}; headless Chromium, software WebGL)"
             )
         finally:
             driver.quit()

@@ -11,7 +11,8 @@ const ZONE_NAMES = { 1: 'Ia', 2: 'Ib', 3: 'IIa', 4: 'IIa', 5: 'IIa', 6: 'IIa', 7
 const PAD = { left: 48, right: 12, top: 12, bottom: 40 };
 
 export class Atlas {
-  constructor(canvas, jrElement, onPick) {
+  constructor(canvas, jrElement, caption, onPick) {
+    this.caption = caption;
     this.canvas = canvas;
     this.jrElement = jrElement;
     this.onPick = onPick;
@@ -150,6 +151,6 @@ export class Atlas {
         { label: 'stationary motions', stroke: '#c0392b', width: 0, points: { show: true, size: 10, fill: '#c0392b' } }],
     }, data, this.jrElement);
     const names = atlas.stationary.map((m) => `${m.kind} at u = ${m.u.toFixed(3)} (${m.stable ? 'stable' : 'unstable'})`);
-    this.jrElement.dataset.stationary = names.join('; ');
+    this.caption.textContent = `J_R(u) and the stationary motions at the top's |J| = ${J.toPrecision(4)} kg m²/s: ${names.join('; ') || 'none'}.`;
   }
 }

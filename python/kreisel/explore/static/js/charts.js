@@ -15,7 +15,7 @@ const COLORS = ['#1f77b4', '#d62728', '#2ca02c', '#9467bd', '#8c564b', '#e377c2'
 function layout(run) {
   if (run.kind === 'play') {
     return [
-      { title: 'u = cos θ (1 upright, -1 inverted)', keys: [['u', 'u']] },
+      { title: 'u = cos θ (1: upright, G above the tip)', keys: [['u', 'u']] },
       { title: 'contact mode', keys: [['mode', 'mode']], modes: run.modes },
       { title: 'normal force (N)', keys: [['normal_force', 'N']] },
       { title: 'energy and its parts (J)', keys: [['energy', 'total'], ['energy_translation', 'translation'],

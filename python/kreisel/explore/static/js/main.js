@@ -133,7 +133,8 @@ function fillPresets(kind) {
 const view = new View3D($('view3d'));
 state.view = view;
 const charts = new Charts($('charts'));
-const atlas = new Atlas($('atlas-plane'), $('jr'), (alpha, gamma) => pickAlphaGamma(alpha, gamma));
+state.charts = charts;
+const atlas = new Atlas($('atlas-plane'), $('jr'), $('jr-caption'), (alpha, gamma) => pickAlphaGamma(alpha, gamma));
 const sweepMap = new SweepMap($('sweep-map'), (index) => openCell(index));
 
 function status(text) {

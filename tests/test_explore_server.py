@@ -302,3 +302,48 @@ def test_the_command_refuses_a_store_that_is_not_a_folder_and_a_port_in_use(tmp_
     assert err.startswith(
         f"kreisel explore: error: port = {port} is not allowed: 127.0.0.1:{port} "
     )
+
+
+def _asgi_get(app, path: str, port: int):
+    """(status, JSON body) of a GET sent straight to the ASGI application."""
+    import asyncio
+
+    sent = []
+
+    async def receive():
+        return {"type": "http.request", "body": b"", "more_body": False}
+
+    async def send(message):
+        sent.append(message)
+
+    scope = {
+        "type": "http",
+        "asgi": {"version": "3.0"},
+        "http_version": "1.1",
+        "method": "GET",
+        "scheme": "http",
+        "path": path,
+        "raw_path": path.encode(),
+        "query_string": b"",
+        "root_path": "",
+        "headers": [(b"host", f"127.0.0.1:{port}".encode())],
+        "client": ("127.0.0.1", 50000),
+        "server": ("127.0.0.1", port),
+    }
+    asyncio.run(app(scope, receive, send))
+    body = b"".join(m.get("body", b"") for m in sent if m["type"] == "http.response.body")
+    return sent[0]["status"], json.loads(body)
+
+
+def test_a_missing_optional_package_is_named_with_how_to_install_it(monkeypatch):
+    from kreisel.explore._app import create_app
+
+    def needs_zarr():
+        raise ModuleNotFoundError("No module named 'zarr'", name="zarr")
+
+    monkeypatch.setattr(_api, "atlas_plane", needs_zarr)
+    status, body = _asgi_get(create_app(8765), "/api/atlas", 8765)
+    assert status == 501
+    assert body["error"] == (
+        "this needs the package 'zarr', which is not installed: pip install 'kreisel[cli]'"
+    )

@@ -53,6 +53,12 @@ def create_app(port: int, store: Path | None = None) -> LoopbackGuard:
                 result = await run_in_threadpool(work, body)
             except (_api.RequestError, KreiselError) as e:
                 return _error(e)
+            except ModuleNotFoundError as e:
+                # sweeps need zarr, NetCDF needs xarray: optional dependencies
+                if e.name is None or e.name.split(".")[0] == "kreisel":
+                    raise
+                message = f"this needs the package {e.name!r}, which is not installed: "
+                return JSONResponse({"error": message + "pip install 'kreisel[cli]'"}, 501)
             return result if isinstance(result, Response) else JSONResponse(result)
 
         return endpoint

@@ -347,3 +347,15 @@ def test_a_missing_optional_package_is_named_with_how_to_install_it(monkeypatch)
     assert body["error"] == (
         "this needs the package 'zarr', which is not installed: pip install 'kreisel[cli]'"
     )
+
+
+def test_a_play_top_outside_the_atlas_still_runs_and_says_why(monkeypatch):
+    # a top with several contact parts has no (alpha, gamma): its run goes on without atlas
+    def no_atlas(p):
+        raise kreisel.ParameterError("shape[0] is not allowed here: the atlas is of one sphere")
+
+    monkeypatch.setattr(_api, "atlas_of", no_atlas)
+    run = _api.run(preset("tippe"))
+    assert run["atlas"] is None
+    assert run["atlas_note"] == "shape[0] is not allowed here: the atlas is of one sphere"
+    assert run["inversion_time"] is not None

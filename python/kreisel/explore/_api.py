@@ -236,7 +236,10 @@ def run(tables: dict) -> dict:
             series[k] = _column(traj[k])
         inv = [e.t for e in evs if e.name == "inversion"]
         out["inversion_time"] = float(inv[0]) if inv else None
-        out["atlas"] = atlas_of(p)
+        try:
+            out["atlas"] = atlas_of(p)
+        except ParameterError as e:  # a top the atlas does not cover (several contact parts)
+            out["atlas"], out["atlas_note"] = None, str(e)
     else:
         for k in ("energy", "potential", "Mz", "M3", "kovalevskaya"):
             if k in traj.columns:

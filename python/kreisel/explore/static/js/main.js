@@ -173,14 +173,17 @@ async function run(tables) {
 }
 
 async function showAtlas(r) {
-  $('atlas-note').textContent = r.kind === 'play'
-    ? `alpha = ${r.atlas.alpha.toFixed(4)}, gamma = ${r.atlas.gamma.toFixed(4)}: type ${r.atlas.type}, zone ${r.atlas.zone}`
-    : 'The atlas is of play tops: choose one (the tippe preset).';
-  if (r.kind === 'play' && !state.plane) {
+  const a = r.kind === 'play' ? r.atlas : null;
+  if (a) {
+    $('atlas-note').textContent = `alpha = ${a.alpha.toFixed(4)}, gamma = ${a.gamma.toFixed(4)}: type ${a.type}, zone ${a.zone}`;
+  } else {
+    $('atlas-note').textContent = r.atlas_note || 'The atlas is of play tops: choose one (the tippe preset).';
+  }
+  if (a && !state.plane) {
     state.plane = await getJSON('/api/atlas');
     atlas.setPlane(state.plane);
   }
-  atlas.setTop(r.kind === 'play' ? r.atlas : null);
+  atlas.setTop(a);
 }
 
 // alpha = s / rho and gamma = A / C: the atlas moves a top by its s and A

@@ -27,6 +27,7 @@ from .._config import (
 )
 from .._errors import ParameterError
 from .._presets import PRESETS
+from .._run import compute, write_trajectory
 from ._geometry import axis_tip, body_parts
 
 # The work one request may ask for (the page says so when a request asks for more).
@@ -36,7 +37,6 @@ MAX_T_END = 600.0  # s of motion in one run
 MAX_FIXED_STEPS = 2_000_000  # steps of a fixed-step method (t_end / dt)
 MAX_SWEEP_CELLS = 250_000  # cells of a sweep sent to the page
 MAX_BODY = 64 * 1024  # bytes of a request body
-INVERSION_LEVEL = 0.9  # as `kreisel run`: the inversion event at u = -0.9
 # the (alpha, gamma) plane of the atlas view
 ATLAS_ALPHA = (0.02, 1.6)
 ATLAS_GAMMA = (0.2, 2.2)
@@ -166,7 +166,8 @@ def _column(x) -> list:
     return o.tolist()
 
 
-def _quaternions(p: Problem, traj) -> np.ndarray:
+def _quaternions(traj) -> np.ndarray:
+    """The orientation at each sample; an exact Lagrange solution has Euler angles only."""
     if "quaternion" in traj.columns:
         return np.asarray(traj.quaternion)
     from .. import _core
@@ -178,13 +179,6 @@ def _quaternions(p: Problem, traj) -> np.ndarray:
             np.ascontiguousarray(traj.psi),
         )
     )
-
-
-def compute(p: Problem):
-    """The trajectory of a checked problem, as ``kreisel run`` computes it."""
-    from .._run import compute as run_compute
-
-    return run_compute(p)
 
 
 def run(tables: dict) -> dict:
@@ -211,7 +205,7 @@ def run(tables: dict) -> dict:
             "origin": "com" if p.kind == "play" else "pivot",
         },
         "t": _column(traj.t),
-        "quaternion": _column(_quaternions(p, traj)),
+        "quaternion": _column(_quaternions(traj)),
         "elapsed": elapsed,
     }
     u = traj.u if "u" in traj.columns else np.cos(traj.theta)
@@ -432,8 +426,6 @@ def sweep_cell(root: Path, body: Any) -> dict:
 
 def trajectory_file(tables: dict, fmt: Any) -> tuple[bytes, str, str]:
     """The trajectory of ``tables`` as a file: (content, file name, media type)."""
-    from .._run import write_trajectory
-
     if fmt not in ("csv", "netcdf"):
         raise RequestError(f'format = {fmt!r} is not allowed: use "csv" or "netcdf"')
     p = problem(tables)

@@ -153,10 +153,13 @@ export class View3D {
       new THREE.MeshStandardMaterial({ color: 0xdfe4ea, roughness: 0.9, transparent: true, opacity: 0.8 }));
     floor.position.z = floorZ - 1e-4 * R;
     this.world.add(floor);
-    this.camera.near = R / 200;
-    this.camera.far = 200 * R;
-    this.camera.position.set(3.2 * R, -4.2 * R, 2.6 * R);
-    this.controls.target.set(0, 0, play ? 0.3 * R : 0.4 * R);
+    // framed on the body as it starts: a play top's centre of mass stands h above the floor
+    const h = play ? run.com[0][2] : 0;
+    const S = Math.max(R, 0.6 * (h + R));
+    this.camera.near = S / 200;
+    this.camera.far = 200 * S;
+    this.camera.position.set(3.2 * S, -4.2 * S, 2.6 * S + 0.5 * h);
+    this.controls.target.set(0, 0, play ? 0.5 * h : 0.4 * R);
     this.controls.update();
     this.camera.updateProjectionMatrix();
     this.setTime(0, 0);

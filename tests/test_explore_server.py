@@ -359,3 +359,20 @@ def test_a_play_top_outside_the_atlas_still_runs_and_says_why(monkeypatch):
     assert run["atlas"] is None
     assert run["atlas_note"] == "shape[0] is not allowed here: the atlas is of one sphere"
     assert run["inversion_time"] is not None
+
+
+def test_an_oversized_body_sent_without_its_length_is_refused(server):
+    conn = http.client.HTTPConnection("127.0.0.1", server.port, timeout=30)
+    body = [b'{"tables": "', b"x" * (_api.MAX_BODY // 2), b"x" * (_api.MAX_BODY // 2), b'"}']
+    conn.request(
+        "POST",
+        "/api/run",
+        body=iter(body),
+        encode_chunked=True,
+        headers={"Host": f"127.0.0.1:{server.port}", "Transfer-Encoding": "chunked"},
+    )
+    r = conn.getresponse()
+    answer = json.loads(r.read())
+    conn.close()
+    assert r.status == 413
+    assert answer["error"].startswith(f"the request body is larger than {_api.MAX_BODY} bytes")

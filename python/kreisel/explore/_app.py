@@ -15,7 +15,7 @@ from starlette.staticfiles import StaticFiles
 
 from .._errors import KreiselError, ParameterError
 from . import _api
-from ._guard import LoopbackGuard
+from ._guard import BodyTooLarge, LoopbackGuard
 
 STATIC = Path(__file__).resolve().parent / "static"
 VENDOR_FILES = ("three.module.min.js", "OrbitControls.js", "uPlot.esm.js", "uPlot.min.css")
@@ -29,6 +29,8 @@ def missing_vendor() -> list[str]:
 async def _json(request: Request):
     try:
         return json.loads(await request.body())
+    except BodyTooLarge as e:  # a body sent without its length, cut off as it arrived
+        raise _api.RequestError(str(e), 413) from None
     except (ValueError, UnicodeDecodeError) as e:
         raise _api.RequestError(f"the request body is not JSON: {e}") from None
     except RecursionError:

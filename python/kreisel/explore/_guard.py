@@ -21,8 +21,8 @@ def _refuse(status: int, message: str):
 class LoopbackGuard:
     """ASGI middleware: refuses (403) a request whose Host is not ``127.0.0.1:PORT`` or
     ``localhost:PORT``, or whose Origin, when it has one, is not ``http://`` one of those;
-    refuses (413) a body longer than ``max_body`` bytes, by its Content-Length or as it
-    arrives."""
+    refuses (413) a body longer than ``max_body`` bytes by its Content-Length, and raises
+    :class:`BodyTooLarge` from ``receive`` when a body sent without one passes the limit."""
 
     def __init__(self, app, port: int, max_body: int) -> None:
         self.app = app
@@ -62,10 +62,8 @@ class LoopbackGuard:
                     raise BodyTooLarge(too_big)
             return message
 
-        try:
-            return await self.app(scope, capped_receive, send)
-        except BodyTooLarge as e:
-            return await _refuse(413, str(e))(send)
+        # the application reads the body: it answers BodyTooLarge with 413 (see _app._json)
+        return await self.app(scope, capped_receive, send)
 
 
 class BodyTooLarge(Exception):

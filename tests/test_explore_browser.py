@@ -130,6 +130,19 @@ def test_the_3d_view_is_drawn_and_moves(page):
     assert len(colours) > 50  # a drawn scene, not a blank canvas
 
 
+def test_the_camera_turns_with_the_mouse_while_paused(page):
+    seek(page, 1.0)  # paused
+    canvas = page.find_element(By.CSS_SELECTOR, "#view3d canvas")
+    where = "return window.explore.view.camera.position.toArray()"
+    before, image = page.execute_script(where), canvas.screenshot_as_png
+    ActionChains(page).move_to_element(canvas).click_and_hold().move_by_offset(
+        120, 30
+    ).release().perform()
+    wait_for(page, "return !window.explore.view.dirty")
+    assert page.execute_script(where) != before
+    assert canvas.screenshot_as_png != image
+
+
 def test_a_bad_parameter_shows_the_api_message_and_runs_nothing(page):
     before = runs(page)
     shown = text(page, "inversion-time")

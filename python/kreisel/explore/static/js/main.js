@@ -237,7 +237,7 @@ function frame(now) {
     draw();
   } else {
     state.last = null;
-    view.render();
+    if (view.dirty) view.render();
   }
   requestAnimationFrame(frame);
 }

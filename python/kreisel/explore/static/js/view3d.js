@@ -71,6 +71,9 @@ export class View3D {
     this.camera = new THREE.PerspectiveCamera(40, 1, 1e-4, 100);
     this.camera.up.set(0, 0, 1);
     this.controls = new OrbitControls(this.camera, this.renderer.domElement);
+    // paused, the scene is drawn again only when the camera moves
+    this.dirty = true;
+    this.controls.addEventListener('change', () => { this.dirty = true; });
     this.scene.add(new THREE.HemisphereLight(0xffffff, 0x8090a0, 2.0));
     const sun = new THREE.DirectionalLight(0xffffff, 1.6);
     sun.position.set(1, -2, 3);
@@ -198,5 +201,6 @@ export class View3D {
   render() {
     this.controls.update();
     this.renderer.render(this.scene, this.camera);
+    this.dirty = false;
   }
 }

@@ -7,6 +7,8 @@ VENV   := .venv
 PY     := $(VENV)/bin/python
 DEPS   := $(VENV)/.deps-installed
 EXT    := $(VENV)/.ext-built
+VENDOR       := python/kreisel/explore/static/vendor
+VENDOR_STAMP := $(VENDOR)/.installed
 RUST_SOURCES := $(shell find crates -name '*.rs' -o -name Cargo.toml) Cargo.toml pyproject.toml
 
 # The extension is built for the machine that builds it: on an x86-64 CPU with AVX2 and FMA
@@ -19,9 +21,31 @@ KREISEL_RUSTFLAGS ?= $(shell [ "$$(uname -m)" = x86_64 ] && [ -r /proc/cpuinfo ]
 	for f in $(V3_FLAGS); do grep -m1 '^flags' /proc/cpuinfo | grep -qw $$f || exit 0; done && \
 	echo "-C target-cpu=x86-64-v3")
 
-.PHONY: demo test test-rust test-python bench lint fmt clean setup fuzz docs
+.PHONY: demo test test-rust test-python bench lint fmt clean setup fuzz docs browser
 
-setup: $(EXT)
+setup: $(EXT) $(VENDOR_STAMP)
+
+# The JavaScript of `kreisel explore`'s page (three.js, uPlot), pinned by web/package-lock.json:
+# npm installs exactly those versions and the files the page loads are copied into the
+# package (static/vendor, not in git). The page loads nothing from the network.
+$(VENDOR_STAMP): web/package.json web/package-lock.json
+	@command -v npm >/dev/null || { echo "installing Debian's npm (Node.js) for the page's JavaScript"; \
+		apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq npm; }
+	npm ci --prefix web --ignore-scripts --no-audit --no-fund --loglevel=error
+	mkdir -p $(VENDOR)
+	cp web/node_modules/three/build/three.module.min.js \
+	   web/node_modules/three/examples/jsm/controls/OrbitControls.js \
+	   web/node_modules/uplot/dist/uPlot.esm.js web/node_modules/uplot/dist/uPlot.min.css $(VENDOR)/
+	cp web/node_modules/three/LICENSE $(VENDOR)/LICENSE-three
+	cp web/node_modules/uplot/LICENSE $(VENDOR)/LICENSE-uplot
+	touch $@
+
+# The browser tests of `kreisel explore` drive Debian's Chromium headless (Selenium with
+# Debian's chromedriver: no browser is downloaded at run time).
+browser:
+	@[ -x /usr/bin/chromium ] && [ -x /usr/bin/chromedriver ] || { \
+		echo "installing Debian's chromium and chromium-driver for the browser tests"; \
+		apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium chromium-driver; }
 
 $(PY):
 	$(PYTHON) -m venv $(VENV)
@@ -36,15 +60,15 @@ $(EXT): $(DEPS) $(RUST_SOURCES)
 	RUSTFLAGS="$(KREISEL_RUSTFLAGS)" $(VENV)/bin/maturin develop --release --quiet
 	touch $@
 
-demo: $(EXT)
+demo: $(EXT) $(VENDOR_STAMP)
 	$(VENV)/bin/kreisel demo
 
-test: $(EXT) test-rust test-python
+test: $(EXT) $(VENDOR_STAMP) browser test-rust test-python
 
 test-rust:
 	cargo test --quiet
 
-test-python: $(EXT)
+test-python: $(EXT) $(VENDOR_STAMP) browser
 	$(PY) -m pytest -q
 
 # The property-based fuzz campaign (tests/fuzz): 10^5 calls of every public function with
@@ -72,7 +96,7 @@ $(DOCS_DEPS): requirements-docs.txt | $(DEPS)
 	$(PY) -m pip install --quiet -r requirements-docs.txt
 	touch $@
 
-docs: $(EXT) $(DOCS_DEPS)
+docs: $(EXT) $(VENDOR_STAMP) $(DOCS_DEPS)
 	MPLBACKEND=Agg $(VENV)/bin/sphinx-build -W --keep-going -b html docs docs/_build/html
 
 lint: $(DEPS)
@@ -87,4 +111,5 @@ fmt: $(DEPS)
 	$(VENV)/bin/ruff format python tests benchmarks examples
 
 clean:
-	rm -rf $(VENV) target kreisel-out docs/_build docs/auto_examples docs/api/generated
+	rm -rf $(VENV) target kreisel-out docs/_build docs/auto_examples docs/api/generated \
+		web/node_modules $(VENDOR)

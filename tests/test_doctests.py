@@ -35,6 +35,8 @@ MODULES = [
     ("kreisel.special", True),
     ("kreisel.plot", False),
     ("kreisel.animate", False),
+    ("kreisel.explore._geometry", True),
+    ("kreisel.explore._api", True),
 ]
 
 

@@ -395,6 +395,32 @@ def sweep_command(file, store, scheduler, threads, var, overwrite, retry_failed,
         click.echo(f"  figure {png}")
 
 
+@cli.command(context_settings=_CONTEXT)
+@click.option(
+    "--port",
+    type=click.IntRange(0, 65535),
+    default=8765,
+    show_default=True,
+    help="port on 127.0.0.1 (0: any free port)",
+)
+@click.option("--no-browser", is_flag=True, help="open no browser; print the address only")
+@click.option(
+    "--store",
+    type=click.Path(file_okay=False, path_type=Path),
+    default=None,
+    help="folder of sweep stores the page may open (none outside it)",
+)
+def explore(port, no_browser, store):
+    """The tops in a browser: a local page (127.0.0.1 only) with a live 3D view, charts,
+    the atlas, sweeps and export. Ctrl+C stops it."""
+    from .explore import serve
+
+    def ready(url):
+        click.echo(f"kreisel explore: serving {url} (Ctrl+C stops)", err=True)
+
+    serve(port, open_browser=not no_browser, store=store, ready=ready)
+
+
 def _dask_process(role, args):
     import os
 
@@ -533,23 +559,10 @@ def _num(x, spec=".6g"):
 
 
 def _to_toml(name: str, tables: dict) -> str:
+    from ._config import to_toml
     from ._presets import PRESETS
 
-    def value(v):
-        if isinstance(v, str):
-            return '"' + v.replace("\\", "\\\\").replace('"', '\\"') + '"'
-        if isinstance(v, bool):
-            return "true" if v else "false"
-        if isinstance(v, (list, tuple)):
-            return "[" + ", ".join(value(x) for x in v) + "]"
-        return repr(v)
-
-    lines = [f"# {PRESETS[name].summary}", "# kreisel run FILE.toml", ""]
-    for table in ("top", "state", "simulation"):
-        lines.append(f"[{table}]")
-        lines += [f"{k} = {value(v)}" for k, v in tables[table].items()]
-        lines.append("")
-    return "\n".join(lines)
+    return to_toml(tables, [PRESETS[name].summary, "kreisel run FILE.toml"])
 
 
 def _fail(message: str, code: int, command: str | None = None) -> int:

@@ -360,6 +360,29 @@ def _settings(kind: str, model, sim: dict, where: str) -> Settings:
     return Settings(t_end, exact, method, rtol, atol, dt, samples)
 
 
+def to_toml(tables: dict, comments=()) -> str:
+    """The TOML file of ``tables`` ([top], [state], [simulation]) that :func:`from_tables`
+    reads back as they are, after a comment line for each of ``comments``."""
+
+    def value(v):
+        if isinstance(v, str):
+            return '"' + v.replace("\\", "\\\\").replace('"', '\\"') + '"'
+        if isinstance(v, bool):
+            return "true" if v else "false"
+        if isinstance(v, (list, tuple)):
+            return "[" + ", ".join(value(x) for x in v) + "]"
+        return repr(v)
+
+    lines = [f"# {c}" for c in comments]
+    if lines:
+        lines.append("")
+    for table in TABLES:
+        lines.append(f"[{table}]")
+        lines += [f"{k} = {value(v)}" for k, v in tables.get(table, {}).items()]
+        lines.append("")
+    return "\n".join(lines)
+
+
 def read_toml(path) -> dict:
     """The tables of a TOML file; a malformed file is a ParameterError with the line."""
     import sys

@@ -1,0 +1,378 @@
+"""The server of ``kreisel explore``: it listens on 127.0.0.1 only, answers only requests for
+its own loopback address (Host and Origin: DNS rebinding), reads sweep stores only under
+--store, caps the work of a request, and answers with kreisel's own messages and numbers."""
+
+from __future__ import annotations
+
+import http.client
+import io
+import json
+import socket
+import subprocess
+import sys
+from pathlib import Path
+
+import _browser
+import numpy as np
+import pytest
+
+import kreisel
+from kreisel._config import preset
+from kreisel.explore import _api
+from kreisel.explore._geometry import axis_tip, body_parts
+
+# the fixtures store (a folder of sweep stores) and server (kreisel explore --store it)
+store, server = _browser.store_fixture, _browser.server_fixture
+
+
+def request(server, method, path, body=None, headers=None):
+    """(status, parsed JSON or bytes) of a raw request; Host is the server's unless given."""
+    conn = http.client.HTTPConnection("127.0.0.1", server.port, timeout=30)
+    h = {"Host": f"127.0.0.1:{server.port}"}
+    h.update(headers or {})
+    data = body if isinstance(body, bytes) or body is None else json.dumps(body).encode()
+    if data is not None:
+        h.setdefault("Content-Type", "application/json")
+    conn.putrequest(method, path, skip_host=True, skip_accept_encoding=True)
+    for k, v in h.items():
+        conn.putheader(k, v)
+    if data is not None:
+        conn.putheader("Content-Length", str(len(data)))
+    conn.endheaders()
+    if data is not None:
+        conn.send(data)
+    r = conn.getresponse()
+    raw = r.read()
+    conn.close()
+    if r.getheader("content-type", "").startswith("application/json"):
+        return r.status, json.loads(raw)
+    return r.status, raw
+
+
+def test_listens_on_the_loopback_address_only(server):
+    # /proc/net/tcp lists the listening sockets (state 0A) as hex address:port
+    rows = Path("/proc/net/tcp").read_text().splitlines()[1:]
+    listening = [r.split()[1] for r in rows if r.split()[3] == "0A"]
+    ours = [a for a in listening if int(a.split(":")[1], 16) == server.port]
+    assert ours == [f"0100007F:{server.port:04X}"]
+    assert not any(
+        int(a.split(":")[1], 16) == server.port
+        for a in (r.split()[1] for r in Path("/proc/net/tcp6").read_text().splitlines()[1:])
+    )
+    # and a connection to another address of this machine is refused
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:
+        try:
+            s.connect(("192.0.2.1", 9))  # no packet is sent: this picks the outgoing address
+            ip = s.getsockname()[0]
+        except OSError:
+            ip = None
+    if ip and not ip.startswith("127."):
+        with pytest.raises(ConnectionRefusedError):
+            socket.create_connection((ip, server.port), timeout=5).close()
+
+
+def test_the_page_and_its_libraries_are_served_from_the_package(server):
+    status, page = request(server, "GET", "/")
+    assert status == 200 and b"importmap" in page
+    assert b"http://" not in page and b"https://" not in page  # nothing from a CDN
+    for f in ("three.module.min.js", "OrbitControls.js", "uPlot.esm.js"):
+        status, _ = request(server, "GET", f"/static/vendor/{f}")
+        assert status == 200, f
+
+
+@pytest.mark.parametrize(
+    "host", ["evil.example:{port}", "127.0.0.1:1", "localhost", "0.0.0.0:{port}"]
+)
+def test_a_foreign_host_header_is_refused(server, host):
+    host = host.format(port=server.port)
+    status, body = request(server, "GET", "/api/schema", headers={"Host": host})
+    assert status == 403
+    assert body["error"].startswith(f"Host {host!r} is not served here")
+    status, _ = request(server, "GET", "/", headers={"Host": host})
+    assert status == 403
+
+
+def test_a_foreign_origin_is_refused_and_the_own_one_served(server):
+    tables = preset("toy")
+    status, body = request(
+        server, "POST", "/api/run", {"tables": tables}, headers={"Origin": "http://evil.example"}
+    )
+    assert status == 403 and "Origin 'http://evil.example' is not served here" in body["error"]
+    status, body = request(
+        server,
+        "POST",
+        "/api/run",
+        {"tables": tables},
+        headers={"Origin": f"http://localhost:{server.port}"},
+    )
+    assert status == 200 and body["kind"] == "lagrange"
+
+
+@pytest.mark.parametrize(
+    "name", ["../outside/secret.zarr", "/etc", "link.zarr", "tippe.zarr/../.."]
+)
+def test_a_store_outside_the_store_folder_is_refused(server, name):
+    status, body = request(server, "POST", "/api/sweep", {"store": name})
+    assert status == 403
+    assert (
+        f"store = {name!r} is not allowed: kreisel explore reads stores only under" in body["error"]
+    )
+    status, body = request(server, "POST", "/api/sweep/cell", {"store": name, "index": [0, 0]})
+    assert status == 403
+
+
+def test_the_stores_under_the_folder_are_listed_and_opened(server, store):
+    status, body = request(server, "GET", "/api/stores")
+    assert status == 200 and body["stores"] == ["tippe.zarr"]  # not the link out of it
+    status, view = request(server, "POST", "/api/sweep", {"store": "tippe.zarr"})
+    ds = kreisel.open_sweep(str(store / "tippe.zarr"))
+    assert view["var"] == "inversion_time" and view["dims"] == ["s", "A"]
+    got = np.array(view["values"], dtype=float)
+    np.testing.assert_array_equal(got, ds["inversion_time"].values)
+
+
+def test_an_oversized_body_is_refused(server):
+    status, body = request(server, "POST", "/api/run", b"{" + b" " * _api.MAX_BODY + b"}")
+    assert status == 413
+    assert body["error"] == (
+        f"the request body is larger than {_api.MAX_BODY} bytes, the most one request may send"
+    )
+
+
+@pytest.mark.parametrize(
+    "simulation, message",
+    [
+        (
+            {"samples": _api.MAX_SAMPLES + 1},
+            f"samples = {_api.MAX_SAMPLES + 1} is not allowed here",
+        ),
+        ({"t_end": 1e4}, "t_end = 10000.0 is not allowed here: kreisel explore runs at most 600 s"),
+        ({"method": "rk4", "dt": 1e-7, "t_end": 1.0}, "dt = 1e-07 is not allowed here"),
+    ],
+)
+def test_a_run_asking_for_too_much_work_is_refused(server, simulation, message):
+    tables = preset("toy")
+    tables["simulation"] = {**tables["simulation"], **simulation}
+    status, body = request(server, "POST", "/api/run", {"tables": tables})
+    assert status == 400 and body["table"] == "simulation"
+    assert body["error"].startswith(message)
+
+
+def test_a_sweep_too_large_for_the_page_is_refused(monkeypatch, store):
+    monkeypatch.setattr(_api, "MAX_SWEEP_CELLS", 3)
+    with pytest.raises(_api.RequestError, match="this sweep has 4 cells: the page shows at most 3"):
+        _api.sweep_view(store, {"store": "tippe.zarr"})
+
+
+@pytest.mark.parametrize(
+    "body, message",
+    [
+        (b"not json", "the request body is not JSON"),
+        ({"tables": 3}, 'the request must be a JSON object with "tables"'),
+        ({"tables": {"toppings": {}}}, "[toppings] is not a known table"),
+    ],
+)
+def test_a_malformed_request_is_refused_with_a_clear_message(server, body, message):
+    status, answer = request(server, "POST", "/api/run", body)
+    assert status == 400 and answer["error"].startswith(message)
+
+
+def test_a_bad_parameter_answers_with_the_api_message_and_its_field(server):
+    tables = preset("tippe")
+    tables["top"]["m"] = -1.0
+    status, body = request(server, "POST", "/api/run", {"tables": tables})
+    p = {k: v for k, v in preset("tippe")["top"].items() if k not in ("kind", "friction", "mu")}
+    with pytest.raises(kreisel.ParameterError) as e:
+        kreisel.PlayTop(**{**p, "m": -1.0}, friction=kreisel.Viscous(1.0))
+    assert status == 400
+    assert (body["table"], body["field"], body["error"]) == ("top", "m", str(e.value))
+
+
+def test_a_run_is_the_one_of_kreisel_simulate(server):
+    status, run = request(server, "POST", "/api/run", {"tables": preset("tippe")})
+    t = preset("tippe")
+    p = {k: v for k, v in t["top"].items() if k not in ("kind", "friction", "mu")}
+    top = kreisel.PlayTop(**p, friction=kreisel.Viscous(1.0))
+    traj = kreisel.simulate(
+        top,
+        top.state(**t["state"]),
+        8.0,
+        rtol=1e-9,
+        t_eval=np.linspace(0.0, 8.0, _api.DEFAULT_SAMPLES),
+        events=[kreisel.events.inversion(0.9)],
+    )
+    assert status == 200
+    assert run["inversion_time"] == traj.events[0].t
+    np.testing.assert_array_equal(run["series"]["u"], traj.u)
+    np.testing.assert_array_equal(run["quaternion"], traj.quaternion)
+    assert run["tables"]["simulation"]["samples"] == _api.DEFAULT_SAMPLES
+    assert run["atlas"]["J"] == top.jellett(top.state(**t["state"]))
+
+
+def test_a_lagrange_run_is_posed_by_its_euler_angles(server):
+    status, run = request(server, "POST", "/api/run", {"tables": preset("toy")})
+    q = np.array(run["quaternion"])
+    # the figure axis R(q) e3 = (sin theta sin phi, -sin theta cos phi, cos theta)
+    w, x, y, z = q.T
+    e3z = 1 - 2 * (x * x + y * y)
+    np.testing.assert_allclose(e3z, run["series"]["u"], atol=1e-12)
+
+
+@pytest.mark.parametrize("fmt", ["csv", "netcdf"])
+def test_the_trajectory_exports_are_the_run(server, fmt):
+    import xarray as xr
+
+    status, run = request(server, "POST", "/api/run", {"tables": preset("tippe")})
+    status, content = request(
+        server, "POST", "/api/export/trajectory", {"tables": run["tables"], "format": fmt}
+    )
+    assert status == 200
+    if fmt == "csv":
+        import pandas as pd
+
+        df = pd.read_csv(io.BytesIO(content))
+        np.testing.assert_allclose(df["t"], run["t"], rtol=1e-15)
+        np.testing.assert_allclose(df["u"], run["series"]["u"], rtol=1e-15)
+    else:
+        ds = xr.open_dataset(io.BytesIO(content), engine="scipy")
+        np.testing.assert_array_equal(ds["t"].values, run["t"])
+        np.testing.assert_array_equal(ds["u"].values, run["series"]["u"])
+    status, body = request(
+        server, "POST", "/api/export/trajectory", {"tables": run["tables"], "format": "xlsx"}
+    )
+    assert (
+        status == 400 and body["error"] == 'format = \'xlsx\' is not allowed: use "csv" or "netcdf"'
+    )
+
+
+def test_import_kreisel_does_not_load_the_web_stack():
+    code = "import sys, kreisel; print([m for m in ('starlette', 'uvicorn') if m in sys.modules])"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "[]"
+
+
+class _Part:
+    def __init__(self, radius, z, name):
+        self.radius, self.z, self.name = radius, z, name
+
+
+def test_the_body_is_drawn_from_the_tops_shape_when_it_has_one():
+    # a top with a ball and a peg (the shape of the multi-part play tops): every part drawn
+    class TwoParts(kreisel.PlayTop):
+        shape = (_Part(0.015, -0.003, "ball"), _Part(0.005, -0.016, "peg"))
+
+    top = TwoParts(m=6e-3, A=8e-7, C=7e-7, s=0.003, rho=0.015)
+    parts = body_parts(top)
+    contact = [(p["kind"], p["name"], p["radius"], p["z"]) for p in parts if p["role"] == "contact"]
+    assert contact == [("sphere", "ball", 0.015, -0.003), ("sphere", "peg", 0.005, -0.016)]
+    # without a shape: the tip sphere, radius rho, centred at -s
+    plain = body_parts(kreisel.PlayTop(m=0.1, A=1.6e-5, C=2e-5, s=0.03, rho=0.0005))
+    assert [(p["radius"], p["z"]) for p in plain if p["role"] == "contact"] == [(0.0005, -0.03)]
+    assert axis_tip(plain) > 0
+
+
+def test_a_heavy_top_is_its_inertia_ellipsoid_on_an_arm_from_the_pivot():
+    top = kreisel.HeavyTop(I1=2e-3, I2=2e-3, I3=1e-3, m=0.5, com=[0.02, 0.0, 0.0])
+    body, rod, pivot = body_parts(top)
+    a, b, c = body["radii"]
+    # a uniform ellipsoid with semi-axes a, b, c has I1 = m (b^2 + c^2) / 5, ...
+    np.testing.assert_allclose(
+        [0.5 * (b * b + c * c) / 5, 0.5 * (a * a + c * c) / 5, 0.5 * (a * a + b * b) / 5],
+        [2e-3, 2e-3, 1e-3],
+        rtol=1e-12,
+    )
+    assert body["center"] == rod["end"] == [0.02, 0.0, 0.0] and pivot["role"] == "pivot"
+
+
+def test_the_command_refuses_a_store_that_is_not_a_folder_and_a_port_in_use(tmp_path, capsys):
+    from kreisel._cli import main
+
+    missing = tmp_path / "nothing-here"
+    assert main(["explore", "--no-browser", "--store", str(missing)]) == 2
+    err = capsys.readouterr().err
+    assert err.strip() == (
+        f"kreisel explore: error: store = {str(missing)!r} is not allowed: it is not a folder"
+    )
+    with socket.socket() as taken:
+        taken.bind(("127.0.0.1", 0))
+        taken.listen(1)
+        port = taken.getsockname()[1]
+        assert main(["explore", "--no-browser", "--port", str(port)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(
+        f"kreisel explore: error: port = {port} is not allowed: 127.0.0.1:{port} "
+    )
+
+
+def _asgi_get(app, path: str, port: int):
+    """(status, JSON body) of a GET sent straight to the ASGI application."""
+    import asyncio
+
+    sent = []
+
+    async def receive():
+        return {"type": "http.request", "body": b"", "more_body": False}
+
+    async def send(message):
+        sent.append(message)
+
+    scope = {
+        "type": "http",
+        "asgi": {"version": "3.0"},
+        "http_version": "1.1",
+        "method": "GET",
+        "scheme": "http",
+        "path": path,
+        "raw_path": path.encode(),
+        "query_string": b"",
+        "root_path": "",
+        "headers": [(b"host", f"127.0.0.1:{port}".encode())],
+        "client": ("127.0.0.1", 50000),
+        "server": ("127.0.0.1", port),
+    }
+    asyncio.run(app(scope, receive, send))
+    body = b"".join(m.get("body", b"") for m in sent if m["type"] == "http.response.body")
+    return sent[0]["status"], json.loads(body)
+
+
+def test_a_missing_optional_package_is_named_with_how_to_install_it(monkeypatch):
+    from kreisel.explore._app import create_app
+
+    def needs_zarr():
+        raise ModuleNotFoundError("No module named 'zarr'", name="zarr")
+
+    monkeypatch.setattr(_api, "atlas_plane", needs_zarr)
+    status, body = _asgi_get(create_app(8765), "/api/atlas", 8765)
+    assert status == 501
+    assert body["error"] == (
+        "this needs the package 'zarr', which is not installed: pip install 'kreisel[cli]'"
+    )
+
+
+def test_a_play_top_outside_the_atlas_still_runs_and_says_why(monkeypatch):
+    # a top with several contact parts has no (alpha, gamma): its run goes on without atlas
+    def no_atlas(p):
+        raise kreisel.ParameterError("shape[0] is not allowed here: the atlas is of one sphere")
+
+    monkeypatch.setattr(_api, "atlas_of", no_atlas)
+    run = _api.run(preset("tippe"))
+    assert run["atlas"] is None
+    assert run["atlas_note"] == "shape[0] is not allowed here: the atlas is of one sphere"
+    assert run["inversion_time"] is not None
+
+
+def test_an_oversized_body_sent_without_its_length_is_refused(server):
+    conn = http.client.HTTPConnection("127.0.0.1", server.port, timeout=30)
+    body = [b'{"tables": "', b"x" * (_api.MAX_BODY // 2), b"x" * (_api.MAX_BODY // 2), b'"}']
+    conn.request(
+        "POST",
+        "/api/run",
+        body=iter(body),
+        encode_chunked=True,
+        headers={"Host": f"127.0.0.1:{server.port}", "Transfer-Encoding": "chunked"},
+    )
+    r = conn.getresponse()
+    answer = json.loads(r.read())
+    conn.close()
+    assert r.status == 413
+    assert answer["error"].startswith(f"the request body is larger than {_api.MAX_BODY} bytes")

@@ -32,7 +32,7 @@ def tippe_sweep(path: Path) -> Path:
     """A small sweep store at ``path``: the tippe preset over 2 values of s and 2 of A."""
     import kreisel
 
-    spec = {"top": {"preset": "tippe"}, "grid": {"s": [0.004, 0.006], "A": [2.4e-6, 2.56e-6]}}
+    spec = {"top": {"preset": "tippe-ball"}, "grid": {"s": [0.004, 0.006], "A": [2.4e-6, 2.56e-6]}}
     kreisel.sweep(spec, str(path), progress=False)
     return path
 

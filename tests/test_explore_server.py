@@ -178,10 +178,12 @@ def test_a_malformed_request_is_refused_with_a_clear_message(server, body, messa
 
 
 def test_a_bad_parameter_answers_with_the_api_message_and_its_field(server):
-    tables = preset("tippe")
+    tables = preset("tippe-ball")
     tables["top"]["m"] = -1.0
     status, body = request(server, "POST", "/api/run", {"tables": tables})
-    p = {k: v for k, v in preset("tippe")["top"].items() if k not in ("kind", "friction", "mu")}
+    p = {
+        k: v for k, v in preset("tippe-ball")["top"].items() if k not in ("kind", "friction", "mu")
+    }
     with pytest.raises(kreisel.ParameterError) as e:
         kreisel.PlayTop(**{**p, "m": -1.0}, friction=kreisel.Viscous(1.0))
     assert status == 400
@@ -189,8 +191,8 @@ def test_a_bad_parameter_answers_with_the_api_message_and_its_field(server):
 
 
 def test_a_run_is_the_one_of_kreisel_simulate(server):
-    status, run = request(server, "POST", "/api/run", {"tables": preset("tippe")})
-    t = preset("tippe")
+    status, run = request(server, "POST", "/api/run", {"tables": preset("tippe-ball")})
+    t = preset("tippe-ball")
     p = {k: v for k, v in t["top"].items() if k not in ("kind", "friction", "mu")}
     top = kreisel.PlayTop(**p, friction=kreisel.Viscous(1.0))
     traj = kreisel.simulate(
@@ -222,7 +224,7 @@ def test_a_lagrange_run_is_posed_by_its_euler_angles(server):
 def test_the_trajectory_exports_are_the_run(server, fmt):
     import xarray as xr
 
-    status, run = request(server, "POST", "/api/run", {"tables": preset("tippe")})
+    status, run = request(server, "POST", "/api/run", {"tables": preset("tippe-ball")})
     status, content = request(
         server, "POST", "/api/export/trajectory", {"tables": run["tables"], "format": fmt}
     )
@@ -355,7 +357,7 @@ def test_a_play_top_outside_the_atlas_still_runs_and_says_why(monkeypatch):
         raise kreisel.ParameterError("shape[0] is not allowed here: the atlas is of one sphere")
 
     monkeypatch.setattr(_api, "atlas_of", no_atlas)
-    run = _api.run(preset("tippe"))
+    run = _api.run(preset("tippe-ball"))
     assert run["atlas"] is None
     assert run["atlas_note"] == "shape[0] is not allowed here: the atlas is of one sphere"
     assert run["inversion_time"] is not None

@@ -28,6 +28,8 @@ window.explore = state; // for the browser tests and the frame-rate note
 
 function showValue(v) {
   if (v === undefined || v === null) return '';
+  // a play top's shape: its parts' tables, as JSON
+  if (Array.isArray(v) && v.some((x) => x !== null && typeof x === 'object')) return JSON.stringify(v);
   if (Array.isArray(v)) return v.map(showValue).join(', ');
   // toExponential() without digits gives the shortest text that reads back as the same number
   if (typeof v === 'number' && v !== 0 && (Math.abs(v) < 1e-3 || Math.abs(v) >= 1e7)) return v.toExponential();
@@ -39,6 +41,13 @@ function showValue(v) {
 function parseValue(text) {
   const s = text.trim();
   if (s === '') return undefined;
+  if (s.startsWith('[{')) {
+    try {
+      return JSON.parse(s); // a shape: [{"radius": ..., "z": ..., "name": ...}, ...]
+    } catch (e) {
+      return s; // kreisel says what is wrong with it
+    }
+  }
   if (s === 'true' || s === 'false') return s === 'true';
   if (s.includes(',') || s.startsWith('[')) {
     return s.replace(/^\[|\]$/g, '').split(',').map((x) => {
@@ -191,7 +200,12 @@ function pickAlphaGamma(alpha, gamma) {
   const tables = readForm();
   const top = tables.top;
   if (top.kind !== 'play') return;
-  top.s = alpha * top.rho;
+  if (Array.isArray(top.shape) && top.shape.length) {
+    // a top of parts: alpha is its first sphere's (z = -s, radius rho)
+    top.shape[0].z = -alpha * top.shape[0].radius;
+  } else {
+    top.s = alpha * top.rho;
+  }
   top.A = gamma * top.C;
   run(tables);
 }

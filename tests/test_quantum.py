@@ -460,3 +460,29 @@ def test_results_are_finite_at_extreme_strengths():
     # a molecule-sized top keeps its numbers in joules finite too
     top = SymmetricTop.from_constants(A=CH3F_A, B=CH3F_B)
     assert np.all(np.isfinite(top.levels(1, 1, 50, np.array([-1e-20, 0.0, 1e-20]))))
+
+
+# -- figures ------------------------------------------------------------------------------------
+
+
+def test_the_quantum_figures_draw_what_they_show():
+    pytest.importorskip("matplotlib")
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    import kreisel.plot
+
+    sm = UNIT.stark_map(J=1, strength=np.linspace(-2.0, 0.0, 11))
+    ax = kreisel.plot.stark_map(sm, UNIT)
+    # (K, M) and (-K, -M) coincide: 5 distinct blocks of J <= 1, 1 + 1 + 1 + 1 + 2 levels
+    drawn = [ln for ln in ax.get_lines() if len(ln.get_xdata())]
+    assert len(drawn) == 6
+    top = SymmetricTop.from_constants(A=CH3F_A, B=CH3F_B)
+    ax = kreisel.plot.spectrum(top.spectrum(J_max=10, temperature=100.0))
+    # the K components of a J coincide: one stick per J
+    assert len(ax.collections[0].get_segments()) == 10
+    fig = kreisel.plot.classical_vs_quantum(UNIT, 1, 1, -20.0, n_max=12)
+    assert len(fig.axes) == 2
+    plt.close("all")

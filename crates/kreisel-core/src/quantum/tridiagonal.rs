@@ -274,7 +274,11 @@ mod tests {
         eigenvalues_lanes(&mut d, &mut e).unwrap();
         for (lane, ref_lane) in alone.iter().enumerate() {
             for i in 0..n {
-                assert_eq!(d[i][lane].to_bits(), ref_lane[i].to_bits(), "lane {lane} row {i}");
+                assert_eq!(
+                    d[i][lane].to_bits(),
+                    ref_lane[i].to_bits(),
+                    "lane {lane} row {i}"
+                );
             }
         }
     }

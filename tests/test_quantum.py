@@ -25,7 +25,7 @@ B_UNIT = 0.5
 
 def wigner_d(j, m1, m2, beta):
     """Wigner's small d^j_{m1 m2}(beta) from his explicit sum (Wigner 1931; Sakurai,
-    "Modern Quantum Mechanics", eq. 3.8.33), vectorised over beta."""
+    "Modern Quantum Mechanics", section 3.8), vectorised over beta."""
     out = np.zeros_like(beta)
     c, s = np.cos(beta / 2), np.sin(beta / 2)
     pref = math.sqrt(
@@ -60,7 +60,8 @@ def cos_element_by_quadrature(j1, j2, k, m):
 
 def dense_block(top, k, m, j_max, p):
     """The (K, M) block built here, from the textbook elements (Townes and Schawlow,
-    "Microwave Spectroscopy" (1955), Table 4-2) and the free energies of PHYSICS.md 5."""
+    "Microwave Spectroscopy" (1955), ch. 4, direction cosines) and the free energies of
+    PHYSICS.md section 5."""
     j0 = max(abs(k), abs(m))
     js = np.arange(j0, j_max + 1)
     free = top.hbar**2 * (
@@ -149,7 +150,7 @@ def test_the_free_rotor_has_its_closed_form_and_degeneracies():
 @pytest.mark.parametrize(("j", "k", "m"), [(1, 1, 1), (1, 1, -1), (2, 1, 2), (3, 2, -1), (4, 4, 3)])
 def test_first_order_stark_shift(j, k, m):
     """dE/dP at P = 0 is <J K M|cos|J K M> = K M / (J (J+1)): the shift -mu E K M / (J (J+1))
-    of a dipole mu in a field E (Townes and Schawlow (1955), eq. 10-3)."""
+    of a dipole mu in a field E (Townes and Schawlow (1955), ch. 10)."""
     p = 1e-6
     j0 = max(abs(k), abs(m))
     up, down = (UNIT.levels(k, m, j + 12, s)[j - j0] for s in (p, -p))
@@ -173,7 +174,7 @@ def test_second_order_stark_shift(j, k, m):
 
 def test_the_second_order_formula_is_the_linear_molecules_for_k_zero():
     """A check on the reference itself: for K = 0 it must be the linear rotor's
-    p^2/(2B) (J(J+1) - 3 M^2) / (J(J+1)(2J-1)(2J+3)) (Townes and Schawlow (1955), eq. 10-6)."""
+    p^2/(2B) (J(J+1) - 3 M^2) / (J(J+1)(2J-1)(2J+3)) (Townes and Schawlow (1955), ch. 10)."""
     for j in range(1, 6):
         for m in range(-j, j + 1):
             lin = (

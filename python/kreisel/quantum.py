@@ -1,10 +1,11 @@
 """The quantum symmetric top, and its bridge to the classical Lagrange top.
 
 A rigid symmetric top (moments I1 = I2 perpendicular to the figure axis, I3 about it) has the
-free levels ``E(J, K) = hbar^2 J(J+1)/(2 I1) + hbar^2 K^2 (1/(2 I3) - 1/(2 I1))``, |K|, |M| <= J.
+free levels ``E(J, K) = hbar^2 J(J+1)/(2 I1) + hbar^2 K^2 (1/(2 I3) - 1/(2 I1))``,
+``|K|, |M| <= J``.
 In a potential ``P cos(theta)`` -- the heavy top with P = m g l, or a symmetric-top molecule
 with dipole mu in a field E along z with P = -mu E (the Stark effect) -- K and M stay good
-quantum numbers and each (K, M) block of the Hamiltonian in the basis |J K M> is tridiagonal
+quantum numbers and each (K, M) block of the Hamiltonian in the basis ``|J K M>`` is tridiagonal
 in J (the project's PHYSICS notes, section 5):
 
 - :class:`SymmetricTop`: the top, from its moments or from spectroscopic constants
@@ -89,7 +90,7 @@ def _strengths(value: object) -> tuple[np.ndarray, bool]:
 
 @dataclass(frozen=True)
 class RotorLevels:
-    """The free rotor's levels up to a J, lowest first: one entry per (J, |K|).
+    """The free rotor's levels up to a J, lowest first: one entry per (J, ``|K|``).
 
     Attributes
     ----------
@@ -215,8 +216,8 @@ class StarkMap:
     J : int
         Every level that correlates with a free level J' <= J is here.
     blocks : dict
-        ``{(K, M): levels}``, levels of shape (s, J - max(|K|, |M|) + 1), column i the level
-        that starts (at P = 0) as J' = max(|K|, |M|) + i (levels of one block never cross).
+        ``{(K, M): levels}``, levels of shape ``(s, J - max(|K|, |M|) + 1)``, column i the level
+        that starts (at P = 0) as ``J' = max(|K|, |M|) + i`` (levels of one block never cross).
     convergence : Convergence
         The worst block's convergence report (all of its levels here must be converged).
 
@@ -386,7 +387,7 @@ class SymmetricTop:
 
     def energy(self, J: ArrayLike, K: ArrayLike = 0) -> FloatOrArray:
         """Free-rotor energy E(J, K) (J); ``J`` and ``K`` integers or integer arrays (they
-        broadcast), |K| <= J.
+        broadcast), ``|K| <= J``.
 
         Examples
         --------
@@ -413,7 +414,7 @@ class SymmetricTop:
         return self._native.b * j * (j + 1.0) + self._native.k_constant * k * k
 
     def rotor_levels(self, J_max: int) -> RotorLevels:
-        """Every free level (J, |K|) with J <= ``J_max``, lowest first, with its degeneracy.
+        """Every free level (J, ``|K|``) with J <= ``J_max``, lowest first, with its degeneracy.
 
         Examples
         --------
@@ -436,7 +437,7 @@ class SymmetricTop:
         """Whether the dipole along the figure axis connects the states (J, K, M) ``lower`` and
         ``upper``: ``Delta K = 0``; ``Delta J = 0, +-1`` (not 0 <-> 0, and Delta J = 0 only
         for K != 0); ``Delta M = 0, +-1``. The pure rotational spectrum is Delta J = +1.
-        Source: Townes and Schawlow (1955), section 4-3.
+        Source: Townes and Schawlow (1955), ch. 4.
 
         Examples
         --------
@@ -472,7 +473,7 @@ class SymmetricTop:
         ``temperature`` (K).
 
         The integrated absorption of a line is proportional to (Townes and Schawlow (1955),
-        eqs. 1-75 and 4-?; Gordy and Cook (1984), ch. 3)::
+        ch. 1 and 4; Gordy and Cook, "Microwave Molecular Spectra" (1984), ch. 3)::
 
             nu * S(J, K) * g_K * w(K) * (exp(-E(J, K) / kT) - exp(-E(J+1, K) / kT))
 
@@ -529,7 +530,7 @@ class SymmetricTop:
 
     def levels(self, K: int, M: int, J_max: int, strength: ArrayLike) -> NDArray[np.float64]:
         """The eigenvalues (J) of the (K, M) block of ``H = free rotor + strength * cos(theta)``
-        in the basis |J K M>, J = max(|K|, |M|) .. ``J_max``, ascending.
+        in the basis ``|J K M>``, ``J = max(|K|, |M|)`` .. ``J_max``, ascending.
 
         Parameters
         ----------
@@ -537,19 +538,23 @@ class SymmetricTop:
             Quantum numbers of the projections of the angular momentum on the figure axis and
             on the space z axis (the direction of the field).
         J_max : int
-            The highest J of the basis, >= max(|K|, |M|). Only the lowest levels are converged:
+            The highest J of the basis, ``>= max(|K|, |M|)``. Only the lowest levels are converged:
             check with :meth:`convergence`.
         strength : float or array of shape (s,)
             P (J): ``m g l`` for a heavy top, ``-mu E`` for a dipole mu in a field E.
 
         Returns
         -------
-        ndarray of shape (s, J_max - max(|K|, |M|) + 1), or (levels,) for a scalar strength.
+        ndarray of shape ``(s, J_max - max(|K|, |M|) + 1)``, or (levels,) for a scalar strength.
 
-        The matrix elements of cos(theta) are closed forms (Townes and Schawlow (1955), Table
-        4-2; Zare, "Angular Momentum" (1988), eq. 3.125):
-        ``<J K M|cos|J K M> = K M / (J(J+1))``, ``<J+1 K M|cos|J K M> =
-        sqrt((J+1)^2 - K^2) sqrt((J+1)^2 - M^2) / ((J+1) sqrt((2J+1)(2J+3)))``. The
+        The matrix elements of cos(theta) are closed forms (Townes and Schawlow (1955), ch. 4,
+        the direction cosines of the symmetric top; Zare, "Angular Momentum" (1988), ch. 3):
+
+        - ``<J K M|cos|J K M> = K M / (J(J+1))``,
+        - ``<J+1 K M|cos|J K M> = sqrt((J+1)^2 - K^2) sqrt((J+1)^2 - M^2) / ((J+1) c)``
+          with ``c = sqrt((2J+1)(2J+3))``.
+
+        The
         eigenvalues come from an implicit QL iteration on the tridiagonal block, the strengths
         spread over all cores.
 
@@ -571,7 +576,7 @@ class SymmetricTop:
 
     def hamiltonian(self, K: int, M: int, J_max: int, strength: float) -> NDArray[np.float64]:
         """The (K, M) block of the Hamiltonian as a dense symmetric matrix (J), rows and
-        columns J = max(|K|, |M|) .. ``J_max``: for inspection and for checks against a dense
+        columns ``J = max(|K|, |M|)`` .. ``J_max``: for inspection and for checks against a dense
         eigensolver (:meth:`levels` never forms it).
 
         Examples
@@ -602,8 +607,8 @@ class SymmetricTop:
     ) -> Convergence:
         """How well the levels of :meth:`levels` at ``J_max`` are converged: they are computed
         again with ``J_check`` (default ``J_max + max(10, J_max // 4)``) and compared, level by
-        level, at every strength. A level is converged when it moved by at most ``rtol * (B +
-        max |strength|)`` (B = hbar^2/(2 I1)).
+        level, at every strength. A level is converged when it moved by at most
+        ``rtol * (B + max |strength|)`` (B = hbar^2/(2 I1)).
 
         Examples
         --------
@@ -625,7 +630,7 @@ class SymmetricTop:
         rtol: float = 1e-10,
     ) -> StarkMap:
         """Every level that starts (at zero strength) at J' <= ``J``, every (K, M) with
-        |K|, |M| <= J, at every strength (J): a Stark map for P = -mu E.
+        ``|K|, |M| <= J``, at every strength (J): a Stark map for P = -mu E.
 
         ``J_max`` (the basis) is chosen when not given: from J + 10 upward, raised by half
         each time, until :meth:`convergence` finds every level J' <= J of every block
@@ -691,7 +696,7 @@ class SymmetricTop:
 
         s = +1 where P < 0 (the bottom at theta = 0), -1 where P > 0 (at theta = pi); ``n`` =
         0, 1, ... numbers the levels of the block from the lowest. Exact to O(B) (B =
-        hbar^2/(2 I1)): relatively ~(B / |P|)^(1/2). Source: expand ``P cos(theta)`` and the
+        hbar^2/(2 I1)): relatively ``~(B / |P|)^(1/2)``. Source: expand ``P cos(theta)`` and the
         centrifugal term ``(M - K cos theta)^2 / sin^2 theta`` about the bottom (Friedrich and
         Herschbach, Z. Phys. D 18 (1991) 153, for K = 0).
 
@@ -744,7 +749,7 @@ class SymmetricTop:
     def ebk_levels(self, K: int, M: int, n: int, strength: ArrayLike) -> FloatOrArray:
         """Semiclassical (EBK) energy (J) of the level with ``n`` nutation quanta of the (K, M)
         block: ``nutation_action(K, M, E, strength) = (n + 1/2) hbar`` solved for E, at each
-        strength. It correlates with the quantum level J = n + max(|K|, |M|), the n-th of
+        strength. It correlates with the quantum level ``J = n + max(|K|, |M|)``, the n-th of
         :meth:`levels`. For the free top it is ``hbar^2 (J + 1/2)^2 / (2 I1) + ...``: the
         quantum level plus ``hbar^2 / (8 I1)``.
 

@@ -2,9 +2,9 @@
 //!
 //! `cos(theta)` is the direction cosine of the figure axis with the space z axis, the
 //! component `Phi_zz` of the direction-cosine matrix. Its elements diagonal in K and M are
-//! (Townes and Schawlow, "Microwave Spectroscopy" (1955), Table 4-2 (Phi_Fg for F = Z, g = z);
-//! Zare, "Angular Momentum" (1988), eq. 3.125 with Wigner 3-j symbols written out; Gordy and
-//! Cook, "Microwave Molecular Spectra" (1984), Table 2.1):
+//! (the direction-cosine matrix elements of the symmetric top: Townes and Schawlow, "Microwave
+//! Spectroscopy" (1955), ch. 4; Gordy and Cook, "Microwave Molecular Spectra" (1984), ch. 2;
+//! Zare, "Angular Momentum" (1988), ch. 3, as a product of two Clebsch-Gordan coefficients):
 //!
 //! ```text
 //!     <J K M| cos(theta) |J K M>     = K M / (J (J+1))                       (J > 0; 0 for J = 0)

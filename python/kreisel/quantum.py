@@ -60,6 +60,9 @@ K_B = 1.380649e-23
 #: The speed of light (m/s), exact.
 C_LIGHT = 299_792_458.0
 
+# The largest dense block hamiltonian() forms: 11585^2 float64 are 1 GiB.
+_DENSE_MAX = 11585
+
 # Frequency (Hz) of one unit of a spectroscopic constant.
 _UNITS = {"Hz": 1.0, "MHz": 1e6, "GHz": 1e9, "cm-1": 100.0 * C_LIGHT}
 
@@ -588,7 +591,13 @@ class SymmetricTop:
         [[0.0, 1.7321, 0.0], [1.7321, 1.0, 1.5492], [0.0, 1.5492, 3.0]]
         """
         k, m = _quantum_number("K", K), _quantum_number("M", M)
-        _, free, cdiag, coff = self._native.block(k, m, _quantum_number("J_max", J_max))
+        jm = _quantum_number("J_max", J_max)
+        if jm - max(abs(k), abs(m)) + 1 > _DENSE_MAX:
+            raise ParameterError(
+                f"J_max = {jm} is not allowed for a dense matrix: it would have more than "
+                f"{_DENSE_MAX}^2 entries (1 GiB); use levels(), which never forms it"
+            )
+        _, free, cdiag, coff = self._native.block(k, m, jm)
         p = real("strength", strength)
         h = np.diag(free + p * cdiag)
         i = np.arange(len(coff))
@@ -632,8 +641,9 @@ class SymmetricTop:
         """Every level that starts (at zero strength) at J' <= ``J``, every (K, M) with
         ``|K|, |M| <= J``, at every strength (J): a Stark map for P = -mu E.
 
-        ``J_max`` (the basis) is chosen when not given: from J + 10 upward, raised by half
-        each time, until :meth:`convergence` finds every level J' <= J of every block
+        ``J_max`` (the basis) is chosen when not given: from ``J + 10 + 4 sqrt(2 max|P| / B)``
+        upward (the pendular states reach ``J ~ sqrt(2 |P| / B)``), raised by half each time (at
+        most to 2000, else a NumericalError), until :meth:`convergence` finds every level J' <= J of every block
         converged to ``rtol``. A given ``J_max`` is checked too; the report is the map's
         ``convergence``. Blocks related by symmetry ((-K, -M) = (K, M); (K, -M) at P equals
         (K, M) at -P) are solved once.
@@ -650,11 +660,19 @@ class SymmetricTop:
         True
         """
         jj = _quantum_number("J", J)
-        if not 0 <= jj <= 1000:
-            raise ParameterError(f"J = {jj} is not allowed: it must lie in [0, 1000]")
+        if not 0 <= jj <= 20:
+            raise ParameterError(
+                f"J = {jj} is not allowed: it must lie in [0, 20] (a map holds (J+1)^2 blocks, "
+                "each solved twice per strength)"
+            )
         p, _ = _strengths(strength)
         growing = J_max is None
-        jm = jj + 10 if J_max is None else _quantum_number("J_max", J_max)
+        if J_max is None:
+            # The pendular states reach J ~ sqrt(2 |P| / B); start a few widths beyond.
+            reach = math.sqrt(2 * float(np.abs(p).max(initial=0.0)) / self._native.b)
+            jm = jj + 10 + int(min(4 * reach, 2000))
+        else:
+            jm = _quantum_number("J_max", J_max)
         if jm < jj:
             raise ParameterError(f"J_max = {jm} is not allowed: it must be >= J = {jj}")
         both = np.concatenate([p, -p])  # (K, M) and (K, -M) in one call
@@ -677,7 +695,7 @@ class SymmetricTop:
             margin, _, worst = min(reports, key=lambda r: (r[0], r[1]))
             if margin >= 0 or not growing:
                 break
-            if jm >= 5000:
+            if jm >= 2000:
                 raise NumericalError(
                     f"the Stark map up to J = {jj} did not converge to rtol = {rtol} with "
                     f"J_max = {jm}: the strengths are too large for the basis"

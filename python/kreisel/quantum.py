@@ -642,11 +642,11 @@ class SymmetricTop:
         ``|K|, |M| <= J``, at every strength (J): a Stark map for P = -mu E.
 
         ``J_max`` (the basis) is chosen when not given: from ``J + 10 + 4 sqrt(2 max|P| / B)``
-        upward (the pendular states reach ``J ~ sqrt(2 |P| / B)``), raised by half each time (at
-        most to 2000, else a NumericalError), until :meth:`convergence` finds every level
+        upward (the pendular states reach ``J ~ sqrt(2 |P| / B)``), raised by half each time
+        (at most to 2000, else a NumericalError), until :meth:`convergence` finds every level
         J' <= J of every block converged to ``rtol``. A given ``J_max`` is checked too; the
-        report is the map's ``convergence``. Blocks related by symmetry ((-K, -M) = (K, M); (K, -M) at P equals
-        (K, M) at -P) are solved once.
+        report is the map's ``convergence``. Blocks related by symmetry are solved once:
+        (-K, -M) is (K, M), and (K, -M) at P is (K, M) at -P.
 
         Examples
         --------

@@ -444,6 +444,14 @@ BAD = [
     (lambda: U.spectrum(J_max=3, temperature=-1.0), "temperature = -1.0 is not allowed"),
     (lambda: U.ebk_levels(K=0, M=0, n=-1, strength=1.0), "n = -1 is not allowed"),
     (lambda: U.pendular_levels(K=0, M=0, n=0, strength=0.0), "strength = 0.0 is not allowed"),
+    (
+        lambda: U.ebk_levels(1, 1, 0, 1e13),
+        "strength = 10000000000000.0 is not allowed: the semiclassical",
+    ),
+    (
+        lambda: SymmetricTop(1e100, 1e100, 1e-100).nutation_action(1, 1, 0.0, 1e100),
+        "strength = 1e+100 is not allowed",
+    ),
     (lambda: U.convergence(0, 0, 10, 1.0, J_check=10), "J_check = 10 is not allowed"),
 ]
 

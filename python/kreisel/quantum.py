@@ -769,7 +769,8 @@ class SymmetricTop:
         block: ``nutation_action(K, M, E, strength) = (n + 1/2) hbar`` solved for E, at each
         strength. It correlates with the quantum level ``J = n + max(|K|, |M|)``, the n-th of
         :meth:`levels`. For the free top it is ``hbar^2 (J + 1/2)^2 / (2 I1) + ...``: the
-        quantum level plus ``hbar^2 / (8 I1)``.
+        quantum level plus ``hbar^2 / (8 I1)``. ``|strength|`` may be at most ``10^12 B``
+        (B = hbar^2/(2 I1)): beyond, the turning points come within round-off of the poles.
 
         Examples
         --------

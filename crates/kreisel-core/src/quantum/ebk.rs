@@ -79,6 +79,30 @@ pub fn action_scaled(k: f64, m: f64, eps: f64, p: f64) -> Result<(f64, f64)> {
     Ok(((integral / (PI * w)).max(0.0), kk / (2.0 * PI * w)))
 }
 
+/// The largest `|P| / B` of the semiclassical levels: in stronger potentials the turning points
+/// of the low levels come within ~(B / |P|)^(1/2) of the poles u = +-1, and 1 -+ u loses its
+/// digits in double precision (at 10^12, six of sixteen).
+pub const EBK_STRENGTH_LIMIT: f64 = 1e12;
+
+/// The strength in units of B, checked against [`EBK_STRENGTH_LIMIT`].
+fn scaled_strength(top: &SymmetricTop, strength: f64) -> Result<f64> {
+    signed("strength", strength)?;
+    let p = strength / top.b();
+    if p.abs() > EBK_STRENGTH_LIMIT || p.is_nan() {
+        return Err(KreiselError::invalid(
+            "strength",
+            strength,
+            format!(
+                "the semiclassical levels need |strength| <= {} B = {} J (B = hbar^2 / (2 I1)): \
+                 beyond, the turning points come within round-off of the poles",
+                crate::error::repr(EBK_STRENGTH_LIMIT),
+                crate::error::repr(EBK_STRENGTH_LIMIT * top.b())
+            ),
+        ));
+    }
+    Ok(p)
+}
+
 /// The nutation action `(1/2 pi) closed-integral p_theta d theta` (J s) of the classical
 /// top with `Mz = M hbar`, `M3 = K hbar` at total energy `energy` (J) in the potential
 /// `strength cos(theta)` (strength in J); 0 below the bottom of the well.
@@ -90,11 +114,11 @@ pub fn nutation_action(
     strength: f64,
 ) -> Result<f64> {
     finite("energy", energy)?;
-    signed("strength", strength)?;
+    let p = scaled_strength(top, strength)?;
     let (b, kf) = (top.b(), k as f64);
     let eps = (energy - top.hbar() * top.hbar() * kf * kf / (2.0 * top.i3())) / b;
     finite("energy", eps)?;
-    Ok(top.hbar() * action_scaled(kf, m as f64, eps, strength / b)?.0)
+    Ok(top.hbar() * action_scaled(kf, m as f64, eps, p)?.0)
 }
 
 /// The EBK energy (J) of the level with `n` nutation quanta (n = 0, 1, ...), `M3 = K hbar`,
@@ -108,10 +132,9 @@ pub fn energy(top: &SymmetricTop, k: i64, m: i64, n: i64, strength: f64) -> Resu
             allowed: "it must be an integer >= 0 (the number of nutation quanta)".into(),
         });
     }
-    signed("strength", strength)?;
+    let p = scaled_strength(top, strength)?;
     let (kf, mf) = (k as f64, m as f64);
     let b = top.b();
-    let p = strength / b;
     let target = n as f64 + 0.5;
     let j = n as f64 + kf.abs().max(mf.abs());
     let free = (j + 0.5) * (j + 0.5) - kf * kf;

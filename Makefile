@@ -87,6 +87,7 @@ bench: $(EXT)
 	$(PY) benchmarks/bench_tippe_mujoco.py
 	$(PY) benchmarks/bench_tippe_peg_mujoco.py
 	$(PY) benchmarks/bench_sweep.py
+	$(PY) benchmarks/bench_quantum.py
 
 # The documentation site (docs/) into docs/_build/html: the guide, theory, API reference, the
 # gallery (examples/, run at build time) and the tutorials (executed notebooks). Installing the

@@ -33,6 +33,7 @@ MODULES = [
     ("kreisel._sweep.store", False),
     ("kreisel.events", True),
     ("kreisel.special", True),
+    ("kreisel.quantum", True),
     ("kreisel.plot", False),
     ("kreisel.animate", False),
     ("kreisel.explore._geometry", True),
@@ -69,6 +70,42 @@ def _public_callables():
                     or callable(getattr(member, "__wrapped__", None))
                 ):
                     yield f"{name}.{attr}", member
+
+
+def _submodule_callables(name):
+    """(name, object) of the public classes and functions defined in the submodule ``name``
+    and of the public methods and properties of those classes."""
+    module = importlib.import_module(name)
+    for attr, obj in vars(module).items():
+        if attr.startswith("_") or getattr(obj, "__module__", None) != name:
+            continue
+        if not (inspect.isclass(obj) or inspect.isfunction(obj)):
+            continue
+        yield f"{name}.{attr}", obj
+        if inspect.isclass(obj):
+            for m, member in vars(obj).items():
+                if m.startswith("_"):
+                    continue
+                if isinstance(member, (staticmethod, classmethod)):
+                    member = member.__func__
+                if inspect.isfunction(member) or (
+                    isinstance(member, property)
+                    and member.fget is not None
+                    and member.fget.__name__ != "<lambda>"  # plain attributes: no example
+                ):
+                    yield f"{name}.{attr}.{m}", member
+
+
+# Submodules whose every public class, function and method has an example of its own.
+EXAMPLES_EVERYWHERE = ("kreisel.quantum",)
+
+
+@pytest.mark.parametrize("name", EXAMPLES_EVERYWHERE)
+def test_every_public_callable_of_a_submodule_has_an_example(name):
+    found = list(_submodule_callables(name))
+    assert len(found) > 10, found  # the walk finds them
+    missing = [n for n, obj in found if ">>>" not in (inspect.getdoc(obj) or "")]
+    assert not missing, f"no >>> example in the docstring of {len(missing)}: {missing}"
 
 
 def test_every_public_callable_has_an_example():

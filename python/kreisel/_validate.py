@@ -48,3 +48,11 @@ def times(name: str, value: object) -> np.ndarray:
             f"{name}[{i}] = {arr[i]} is not allowed: every time must be a finite number"
         )
     return np.ascontiguousarray(arr)
+
+
+def integer(name: str, value: object) -> int:
+    """``value`` as a Python int (an int or a numpy integer, not a bool), or a ParameterError
+    naming ``name``: quantum numbers and sizes are counted, never measured."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (numbers.Integral, np.integer)):
+        raise ParameterError(f"{name} = {value!r} is not allowed: it must be an integer")
+    return int(value)

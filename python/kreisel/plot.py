@@ -11,6 +11,7 @@ import numpy as np
 
 from ._plot_atlas import J_R_plot, atlas, vertical_axis_diagram  # noqa: F401
 from ._plot_base import _pyplot
+from ._plot_quantum import classical_vs_quantum, spectrum, stark_map  # noqa: F401
 from ._plot_sweep import sweep  # noqa: F401
 
 if TYPE_CHECKING:

@@ -1,8 +1,9 @@
 """A property-based fuzz campaign over kreisel's public surface.
 
 Every public constructor and method (found by introspection, see :func:`public_surface`),
-``kreisel.special``, ``simulate``, ``simulate_many``, ``sweep`` and the command line are
-called with valid, boundary and invalid values drawn by hypothesis. Each call ends in one
+``kreisel.special``, the main entry points of ``kreisel.quantum``, ``simulate``,
+``simulate_many``, ``sweep`` and the command line are called with valid, boundary and invalid
+values drawn by hypothesis. Each call ends in one
 outcome:
 
 - ``clean``: a result whose floats are all finite (or non-finite only where documented,
@@ -326,6 +327,50 @@ def _special_targets():
     ]  # fmt: skip
 
 
+def _quantum_targets():
+    from kreisel import quantum
+
+    # Mostly valid values, so that the levels, not only the checks, are driven.
+    moment = mostly(nice(0.3, 3.0, 1.0, 2.0), hostile_float, any_value, k=12)
+    hbar = mostly(st.sampled_from([1.0, 0.5, quantum.HBAR]), hostile_float, any_value, k=12)
+    qn = mostly(st.integers(-4, 4), st.sampled_from([10**9, -(2**70)]), any_value, k=12)
+    j_max = mostly(st.integers(4, 120), st.integers(-2, 3),
+                   st.sampled_from([20_000, 20_001, 10**12]), any_value, k=12)  # fmt: skip
+    strength = mostly(st.one_of(nice(-500.0, 500.0, 0.0), st.lists(nice(-500.0, 500.0),
+                                                                     max_size=6)),
+                      hostile_float, any_value, k=12)  # fmt: skip
+
+    def top(a):
+        return quantum.SymmetricTop(a["I1"], a["I3"], a["hbar"])
+
+    base = {"I1": moment, "I3": moment, "hbar": hbar}
+    constant = mostly(nice(1.0, 2e5, 25536.15), hostile_float, any_value, k=8)
+    unit = mostly(st.sampled_from(["MHz", "cm-1", "GHz"]), any_value, k=8)
+    return [
+        Target("quantum.SymmetricTop()", _kw(**base), lambda a: repr(top(a)), 0.3),
+        Target("quantum.SymmetricTop.levels",
+               _kw(**base, K=qn, M=qn, J_max=j_max, strength=strength),
+               lambda a: top(a).levels(a["K"], a["M"], a["J_max"], a["strength"])),
+        Target("quantum.SymmetricTop.ebk_levels",
+               _kw(**base, K=qn, M=qn, n=mostly(st.integers(0, 40), st.integers(-2, -1),
+                                                any_value, k=8),
+                   strength=strength),
+               lambda a: top(a).ebk_levels(a["K"], a["M"], a["n"], a["strength"])),
+        Target("quantum.SymmetricTop.nutation_action",
+               _kw(**base, K=qn, M=qn, energy=mostly(nice(-100.0, 1e4, 0.0), any_value, k=8),
+                   strength=mostly(nice(-500.0, 500.0, 0.0), any_value, k=8)),
+               lambda a: top(a).nutation_action(a["K"], a["M"], a["energy"], a["strength"])),
+        Target("quantum.SymmetricTop.spectrum",
+               _kw(**base, J_max=j_max,
+                   temperature=mostly(nice(0.01, 1e4, 1.0, 300.0), any_value, k=8)),
+               lambda a: top(a).spectrum(a["J_max"], a["temperature"]).intensity, 0.5),
+        Target("quantum.SymmetricTop.from_constants",
+               _kw(A=constant, B=constant, unit=unit),
+               lambda a: quantum.SymmetricTop.from_constants(a["A"], a["B"], a["unit"]).constants(),
+               0.5),
+    ]  # fmt: skip
+
+
 def _construct_target(kind):
     def call(a):
         top = MAKERS[kind](a)
@@ -619,6 +664,7 @@ def all_targets(calm=False) -> list[Target]:
     stack (issue 19 items 2 and 3, tested apart), for the share that runs in `make test`."""
     return (
         _special_targets()
+        + _quantum_targets()
         + [_construct_target(k) for k in MAKERS]
         + _friction_targets()
         + _object_targets()

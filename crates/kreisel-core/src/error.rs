@@ -151,6 +151,25 @@ pub fn signed(name: &str, value: f64) -> Result<f64> {
     }
 }
 
+/// Checks the moments of a symmetric top: `I1` (perpendicular) and `I3` (axial) are
+/// parameters > 0, and `I3 <= 2 I1`, the triangle inequality of principal moments that every
+/// rigid body obeys (about its centre of mass, and so about any point on its figure axis).
+pub fn symmetric_moments(i1: f64, i3: f64) -> Result<()> {
+    positive("I1", i1)?;
+    positive("I3", i3)?;
+    if i3 > 2.0 * i1 {
+        return Err(KreiselError::invalid(
+            "I3",
+            i3,
+            format!(
+                "no rigid body has I3 > 2*I1 = {} (triangle inequality of principal moments)",
+                2.0 * i1
+            ),
+        ));
+    }
+    Ok(())
+}
+
 /// Checks that `value` is a finite rate (rad/s) of magnitude at most [`RATE_MAX`].
 pub fn rate(name: &str, value: f64) -> Result<f64> {
     if value.is_finite() && value.abs() <= RATE_MAX {

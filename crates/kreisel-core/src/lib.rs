@@ -10,6 +10,8 @@
 //! - [`simulate`]: one vocabulary for every model (settings, solution, events, summaries,
 //!   the model trait) and the parallel batch.
 //! - [`integrate`]: the general integrators (no model imported).
+//! - [`quantum`]: the quantum symmetric top (free and in a potential P cos(theta)) and its
+//!   semiclassical (EBK) levels.
 //!
 //! Conventions (SI units, radians, Euler angles z-x-z with theta from the upward vertical)
 //! are those of the project's PHYSICS notes.
@@ -18,6 +20,7 @@ pub mod chaos;
 pub mod error;
 pub mod integrate;
 pub mod models;
+pub mod quantum;
 pub mod rotation;
 pub mod simulate;
 pub mod special;

@@ -6,6 +6,7 @@ mod errors;
 mod heavy;
 mod lagrange;
 mod play;
+mod quantum;
 mod simulate;
 mod special;
 mod stability;
@@ -20,6 +21,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<play::PyFriction>()?;
     m.add_class::<simulate::PyRun>()?;
     m.add_class::<stability::PyPlayStability>()?;
+    m.add_class::<quantum::PySymmetricTop>()?;
     m.add_function(wrap_pyfunction!(simulate::simulate, m)?)?;
     m.add_function(wrap_pyfunction!(simulate::many, m)?)?;
     m.add_function(wrap_pyfunction!(simulate::names, m)?)?;

@@ -1,4 +1,4 @@
-//! Elliptic integrals of the first and third kind (parameter convention `m = k^2`).
+//! Elliptic integrals of the first, second (complete) and third kind (parameter convention `m = k^2`).
 //!
 //! Thin, validated wrappers over the `ellip` crate, plus the complete integral K from the
 //! complementary parameter (accurate as m -> 1) and the incomplete third-kind integral in the
@@ -85,6 +85,12 @@ pub fn ellipk_m1(m1: f64) -> f64 {
         a = an;
     }
     FRAC_PI_2 / a
+}
+
+/// Complete elliptic integral of the second kind E(m), any finite m <= 1 (E(1) = 1).
+pub fn ellipe(m: f64) -> Result<f64> {
+    complete_parameter(m)?;
+    wrap(ellip::ellipe(m), || format!("E(m = {m})"))
 }
 
 /// Incomplete elliptic integral of the first kind F(phi | m), any finite phi and m (for

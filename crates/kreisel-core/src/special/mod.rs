@@ -11,5 +11,5 @@ pub mod cubic;
 pub mod elliptic;
 pub mod jacobi;
 
-pub use elliptic::{ellipf, ellipj, ellipk, ellippi, ellippiinc, rf, rj};
+pub use elliptic::{ellipe, ellipf, ellipj, ellipk, ellippi, ellippiinc, rf, rj};
 pub use jacobi::{jacobi, Jacobi};

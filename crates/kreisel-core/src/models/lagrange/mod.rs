@@ -12,7 +12,8 @@ pub use columns::LagrangeColumns;
 pub use exact::{LagrangeExact, MotionKind};
 
 use crate::error::{
-    finite, non_negative, positive, rate, repr, signed, KreiselError, Result, RATE_MAX,
+    finite, non_negative, positive, rate, repr, signed, symmetric_moments, KreiselError, Result,
+    RATE_MAX,
 };
 
 /// Euler angles (z-x-z) and their rates.
@@ -99,21 +100,10 @@ impl LagrangeTop {
     /// Every parameter lies in [`PARAMETER_RANGE`](crate::error::PARAMETER_RANGE) (`l` and
     /// `g` may also be 0).
     pub fn new(i1: f64, i3: f64, m: f64, l: f64, g: f64) -> Result<Self> {
-        positive("I1", i1)?;
-        positive("I3", i3)?;
+        symmetric_moments(i1, i3)?;
         positive("m", m)?;
         signed("l", l)?;
         non_negative("g", g)?;
-        if i3 > 2.0 * i1 {
-            return Err(KreiselError::invalid(
-                "I3",
-                i3,
-                format!(
-                    "no rigid body has I3 > 2*I1 = {} (triangle inequality of principal moments)",
-                    2.0 * i1
-                ),
-            ));
-        }
         if i1 < m * l * l * (1.0 - 1e-12) {
             return Err(KreiselError::invalid(
                 "I1",

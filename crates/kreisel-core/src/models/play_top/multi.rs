@@ -429,6 +429,9 @@ impl PlayTop {
         let free = |jv: [f64; 3], jw: [f64; 3]| dot(jv, vd0) + dot(jw, wd0);
         for i in 0..self.parts.n {
             let p = self.part(i);
+            if c.mode[i] == Mode::Flight {
+                continue;
+            }
             let arm = p.arm(k.e3);
             let jw_n = cross(arm, EZ);
             let rhs_n = -(free(EZ, jw_n) + p.gap_bias(k.w, k.e3));

@@ -1,5 +1,5 @@
 """A tippe top turning over onto its peg: Leine and Glocker's top over 8 s
-======================================================================
+=======================================================================
 
 Figure: Leine and Glocker's tippe top (a 15 mm ball with a 5 mm peg, Coulomb-Contensou
 friction mu = 0.3 over a 0.5 mm patch; PHYSICS notes 4.4) spun at 180 rad/s near hanging:
@@ -10,7 +10,7 @@ contact shaded (ball, both, peg).
 
 It turns over on its ball, the peg touches at 1.37 s and the ball leaves the floor at that
 instant; it spins on its peg while the drilling friction wears its spin down, falls back
-when the spin drops below the peg's sleeping threshold (|J| < J_R(1) of the one-sphere
+when the spin drops below the peg's sleeping threshold (J below J_R(1) of the one-sphere
 theory applied to the peg, the dotted line), rocks between ball and peg, rests on both (the
 seed's critical moment) and ends on its ball. Writes tippe_top_peg.png.
 """

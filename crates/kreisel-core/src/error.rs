@@ -163,7 +163,7 @@ pub fn symmetric_moments(i1: f64, i3: f64) -> Result<()> {
             i3,
             format!(
                 "no rigid body has I3 > 2*I1 = {} (triangle inequality of principal moments)",
-                2.0 * i1
+                repr(2.0 * i1)
             ),
         ));
     }

@@ -323,9 +323,13 @@ impl PlayTop {
     /// Contact forces and the state derivative with the parts in `c` (several-part
     /// equations; see the module's notes).
     pub fn multi_dynamics(&self, c: &Contacts, y: &[f64; DIM], dy: &mut [f64; DIM]) -> Forces {
-        // All touching parts sliding: one unknown per part, a small system.
-        if c.mode[..self.parts.n].contains(&Mode::Roll) {
+        // All touching parts sliding: one unknown per part, a small system (one part sliding,
+        // the common case: one unknown).
+        let modes = &c.mode[..self.parts.n];
+        if modes.contains(&Mode::Roll) {
             self.dynamics_of::<MAXU>(c, y, dy)
+        } else if modes.iter().filter(|&&m| m == Mode::Slip).count() <= 1 {
+            self.dynamics_of::<1>(c, y, dy)
         } else {
             self.dynamics_of::<MAX_PARTS>(c, y, dy)
         }

@@ -272,10 +272,18 @@ def test_a_sweep_of_the_tippe_preset_over_the_patch_radius(tmp_path):
         "top": {"preset": "tippe"},
         "simulation": {"t_end": 2.0},
         "grid": {"psi_dot": [180.0], "patch_radius": [0.0, 5e-4]},
-        "output": {"keep": ["inversion_time", "final_parts_in_contact", "first_touchdown_time_1"]},
+        "output": {
+            "keep": ["final_parts_in_contact", "first_touchdown_time_1", "first_touchdown_time_peg"]
+        },
     }
     ds = kreisel.sweep(spec, tmp_path / "s.zarr", progress=False)
     parts = ds["final_parts_in_contact"].values.ravel()
     touch = ds["first_touchdown_time_1"].values.ravel()
     assert parts.tolist() == [1, 2]  # ball alone (bit 0), peg alone (bit 1)
     assert np.isnan(touch[0]) and touch[1] == pytest.approx(1.371, abs=1e-3)
+    # the peg by its name: the same numbers
+    np.testing.assert_array_equal(ds["first_touchdown_time_peg"].values.ravel(), touch)
+    assert "'peg'" in ds["first_touchdown_time_peg"].attrs["description"]
+    with pytest.raises(ParameterError, match=r"first_touchdown_time_<part> .*ball, peg"):
+        kreisel.sweep({**spec, "output": {"keep": ["first_touchdown_time_stem"]}}, None,
+                      progress=False)  # fmt: skip

@@ -9,7 +9,7 @@ import numpy as np
 
 from .. import _config
 from .._errors import ParameterError
-from .spec import CATEGORIES, MODE_ERROR, MOTION_KINDS, _compose, _where
+from .spec import CATEGORIES, MODE_ERROR, MOTION_KINDS, _compose, _where, part_summary
 
 LYAPUNOV_D0 = 1e-9
 LYAPUNOV_DIRECTION = (1.0, 1.0, 1.0, 1.0, 1.0, 1.0)
@@ -85,8 +85,10 @@ def compute_chunk(spec: dict, values: dict, threads=None) -> dict:
             messages.append(lam_errors)
         res_errors = [next((m for m in ms if m), None) for ms in zip(*messages)]
         for name in kept_here:
-            # categories come as the core's codes (MODE_ERROR where a run failed)
-            out[name][idx] = res[name]
+            # categories come as the core's codes (MODE_ERROR where a run failed); a part's
+            # touchdown by its name is the core's by its position
+            core = name if name in res else part_summary(name, spec["top"])
+            out[name][idx] = res[core]
         for j, msg in enumerate(res_errors):
             if msg is None:
                 status[where[j]] = 1

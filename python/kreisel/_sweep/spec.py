@@ -31,6 +31,38 @@ SUMMARIES["lagrange"] = SUMMARIES["heavy"]
 # kept unless the spec says otherwise (the Lyapunov exponent costs two more runs: on request)
 DEFAULT_KEEP = {k: _of("heavy" if k == "lagrange" else k, True) for k in SUMMARIES}
 DESCRIPTIONS = {f["name"]: f["description"] for f in _FIELDS}
+# a part's first touchdown by the part's name: first_touchdown_time_<name>
+TOUCHDOWN = "first_touchdown_time_"
+
+
+def part_names(top: dict) -> list[str]:
+    """The names of a play top's parts in a [top] table: its shape's, else the tip sphere's."""
+    shape = top.get("shape")
+    if not isinstance(shape, list):
+        return ["tip"]
+    return [
+        p.get("name") or f"part{i}" if isinstance(p, dict) else f"part{i}"
+        for i, p in enumerate(shape)
+    ]
+
+
+def part_summary(name: str, top: dict) -> str | None:
+    """The core's summary behind ``first_touchdown_time_<part name>`` (the part by its
+    position), None where ``name`` is no such summary of this top."""
+    if not name.startswith(TOUCHDOWN):
+        return None
+    names = part_names(top)
+    part = name[len(TOUCHDOWN) :]
+    return f"{TOUCHDOWN}{names.index(part)}" if part in names else None
+
+
+def description(name: str) -> str:
+    """A summary's description, a part's touchdown included."""
+    if name in DESCRIPTIONS:
+        return DESCRIPTIONS[name]
+    return f"first touchdown of part {name[len(TOUCHDOWN) :]!r} (s), NaN if none"
+
+
 UNITS = {f["name"]: f["unit"] for f in _FIELDS}
 MODES = tuple(_NAMES["modes"])
 MOTION_KINDS = tuple(_NAMES["motion_kinds"])
@@ -211,10 +243,15 @@ class SweepSpec:
                 f"{', '.join(allowed)}"
             )
         for k in keep:
-            if k not in allowed:
+            if k not in allowed and (kind != "play" or part_summary(k, top) is None):
+                named = (
+                    ", first_touchdown_time_<part> (a part's name: "
+                    + ", ".join(part_names(top)) + ")"
+                    if kind == "play" else ""
+                )  # fmt: skip
                 raise ParameterError(
                     f"{head}[output] keep contains {k!r}, which is not a summary of {what}: "
-                    f"allowed are {', '.join(allowed)}"
+                    f"allowed are {', '.join(allowed)}{named}"
                 )
         chunk = out.get("chunk", DEFAULT_CHUNK)
         if isinstance(chunk, bool) or not isinstance(chunk, (int, np.integer)) or chunk < 1:

@@ -14,7 +14,7 @@ from .._errors import ParameterError
 if TYPE_CHECKING:
     import xarray as xr
 
-from .spec import CATEGORIES, DESCRIPTIONS, MODE_ERROR, MODE_PENDING, SweepSpec
+from .spec import CATEGORIES, DESCRIPTIONS, MODE_ERROR, MODE_PENDING, SweepSpec, description
 
 FORMAT = "kreisel-sweep/1"
 
@@ -89,7 +89,7 @@ def _create(store, spec: SweepSpec, samples: dict):
     attrs = {"coordinates": " ".join(coords)} if coords else {}
     for name in spec.keep:
         dtype, fill = ("i8", -1) if name == "steps" else ("f8", np.nan)
-        a = dict(attrs, description=DESCRIPTIONS[name])
+        a = dict(attrs, description=description(name))
         if name in CATEGORIES:
             dtype, fill = "i1", MODE_PENDING
             names = CATEGORIES[name]

@@ -89,7 +89,7 @@ def _create(store, spec: SweepSpec, samples: dict):
     attrs = {"coordinates": " ".join(coords)} if coords else {}
     for name in spec.keep:
         dtype, fill = ("i8", -1) if name == "steps" else ("f8", np.nan)
-        a = dict(attrs, description=description(name))
+        a: dict[str, Any] = dict(attrs, description=description(name))
         if name in CATEGORIES:
             dtype, fill = "i1", MODE_PENDING
             names = CATEGORIES[name]

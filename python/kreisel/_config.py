@@ -259,26 +259,39 @@ def _model(kind: str, top: dict, where: str):
 
 
 def _parts(shape) -> list:
-    """The parts of a ``shape`` field: an array of tables ``{radius, z, name}`` (spheres)."""
-    from .shapes import Sphere
+    """The parts of a ``shape`` field: an array of tables, each a sphere ``{radius, z}``, a
+    spheroid ``{kind = "spheroid", equatorial, axial, z}`` or a torus ``{kind = "torus", major,
+    minor, z}``, with an optional ``name``."""
+    from .shapes import Sphere, Spheroid, Torus
 
+    kinds = {
+        "sphere": (Sphere, ("radius", "z")),
+        "spheroid": (Spheroid, ("equatorial", "axial", "z")),
+        "torus": (Torus, ("major", "minor", "z")),
+    }
     if not isinstance(shape, list) or not shape:
         raise ParameterError(
             f"shape = {shape!r} is not allowed: it must be an array of parts, each a table "
-            "{ radius = ..., z = ..., name = ... } (a sphere)"
+            "{ radius = ..., z = ..., name = ... } (a sphere; or kind = 'spheroid' or 'torus')"
         )
     out = []
     for i, part in enumerate(shape):
         if not isinstance(part, dict):
             raise ParameterError(f"shape[{i}] must be a table {{ radius, z, name }}, not "
                                  f"{_kind_of(part)}")  # fmt: skip
-        extra = set(part) - {"radius", "z", "name", "kind"}
-        if extra or part.get("kind", "sphere") != "sphere" or not {"radius", "z"} <= set(part):
+        kind = part.get("kind", "sphere")
+        if kind not in kinds:
             raise ParameterError(
-                f"shape[{i}] = {part!r} is not allowed: a part is a table with radius and z "
-                "(and optionally name; kind = 'sphere')"
+                f"shape[{i}] kind = {kind!r} is not allowed: use 'sphere', 'spheroid' or 'torus'"
             )
-        out.append(Sphere(part["radius"], part["z"], part.get("name")))
+        cls, fields = kinds[kind]
+        extra = set(part) - {*fields, "name", "kind"}
+        if extra or not set(fields) <= set(part):
+            raise ParameterError(
+                f"shape[{i}] = {part!r} is not allowed: a {kind} is a table with "
+                f"{', '.join(fields)} (and optionally name)"
+            )
+        out.append(cls(*(part[f] for f in fields), part.get("name")))
     return out
 
 

@@ -121,7 +121,7 @@ class PlayTop:
         m: float,
         a: float,
         c: float,
-        parts: list[tuple[str, float, float]],
+        parts: list[tuple[str, float, float, float]],
         g: float,
         friction: Friction,
         restitution: float,

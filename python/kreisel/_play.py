@@ -11,7 +11,7 @@ from . import _atlas, _core
 from ._errors import ParameterError, ParameterTypeError
 from ._heavy import _vector
 from ._validate import real
-from .shapes import Sphere, _named
+from .shapes import Part, Sphere, _named
 
 if TYPE_CHECKING:
     from numpy.typing import ArrayLike, NDArray
@@ -212,7 +212,7 @@ class PlayTop:
         Gravitational acceleration (m/s^2).
     friction : Coulomb, Viscous, Frictionless or CoulombContensou
         Tangential force law at every contact.
-    shape : list of kreisel.shapes.Sphere, optional
+    shape : list of kreisel.shapes.Sphere, Spheroid or Torus, optional
         The contact parts (between 1 and 4), instead of ``s`` and ``rho``: give exactly one
         of the two. ``PlayTop(m, A, C, s, rho)`` means ``shape=[Sphere(rho, z=-s,
         name="tip")]``. The atlas and the stationary motions use the first part, and need it
@@ -253,7 +253,7 @@ class PlayTop:
         rolling_resistance: float = 0.0,
         drilling_resistance: float = 0.0,
         air_drag: float = 0.0,
-        shape: list[Sphere] | tuple[Sphere, ...] | None = None,
+        shape: list[Part] | tuple[Part, ...] | None = None,
     ) -> None:
         friction = Coulomb(0.3) if friction is None else friction
         if not isinstance(friction, _LAWS):
@@ -272,7 +272,8 @@ class PlayTop:
         parts = None if shape is None else _named(shape)
         if parts is not None:
             first = parts[0]
-            s, rho = (-first.z, first.radius) if first.radius > 0 and first.z <= 0 else (0.0, 0.0)
+            tip = isinstance(first, Sphere) and first.radius > 0 and first.z <= 0
+            s, rho = (-first.z, first.radius) if isinstance(first, Sphere) and tip else (0.0, 0.0)
         p = dict(
             m=real("m", m),
             A=real("A", A),
@@ -290,7 +291,7 @@ class PlayTop:
             self._native = _core.PlayTop(
                 p["m"], p["A"], p["C"], p["s"], p["rho"], p["g"], friction._native, *rest,  # type: ignore[arg-type]
             )  # fmt: skip
-            self._shape: tuple[Sphere, ...] = (Sphere(p["rho"], -p["s"], "tip"),)
+            self._shape: tuple[Part, ...] = (Sphere(p["rho"], -p["s"], "tip"),)
         else:
             try:
                 self._native = _core.PlayTop.with_parts(
@@ -300,7 +301,7 @@ class PlayTop:
             except ParameterError as e:
                 msg = str(e)
                 for i, q in enumerate(parts):
-                    msg = msg.replace(f"shape[{i}].", f"Sphere {q.name!r}: ")
+                    msg = msg.replace(f"shape[{i}].", f"{type(q).__name__} {q.name!r}: ")
                 raise ParameterError(msg) from None
             self._shape = parts
         self._given_shape = parts is not None
@@ -315,7 +316,7 @@ class PlayTop:
     friction = property(lambda self: self._friction, doc="The friction law.")
     shape = property(
         lambda self: self._shape,
-        doc="The contact parts, each named (a tuple of kreisel.shapes.Sphere).",
+        doc="The contact parts, each named (a tuple of kreisel.shapes parts).",
     )
     part_names = property(
         lambda self: tuple(q.name for q in self._shape), doc="The parts' names, in order."

@@ -167,34 +167,53 @@ def shape_of(model: HeavyTop | LagrangeTop | PlayTop) -> Shape:
     return Shape(z, r, np.array(com, dtype=float), tip, h, rod=bool(np.linalg.norm(com) > 0))
 
 
+def _part_profile(part, s: float):
+    """(centre, half-length along the axis, radius at z) of a part, from the body origin."""
+    zc = part.z + s
+    if part.kind == "sphere":
+        rc = part.radius
+        return zc, rc, lambda z: np.sqrt(np.clip(rc * rc - (z - zc) ** 2, 0.0, None))
+    if part.kind == "spheroid":
+        a, b = part.equatorial, part.axial
+        return zc, b, lambda z: a * np.sqrt(np.clip(1.0 - ((z - zc) / b) ** 2, 0.0, None))
+    big, small = part.major, part.minor
+    half = max(small, 1e-3 * big)  # a sharp rim drawn as a thin ring
+    return zc, half, lambda z: big + np.sqrt(np.clip(half * half - (z - zc) ** 2, 0.0, None))
+
+
 def _parts_shape(model) -> Shape:
-    """The drawn shape of a top given by its parts: their union along the axis (each sphere
-    as it is, joined by a thin neck where two parts do not meet), so that nothing drawn
-    reaches below the lowest part: the floor is never crossed. Measured from the body
-    origin the frames use (``com - s e3``); the parts other than the first in steel."""
+    """The drawn shape of a top given by its parts: their union along the axis (each part as
+    it is, joined by a neck where two parts do not meet: thin between spheres, full between
+    rims, as a disk's body), so that nothing drawn reaches below the lowest part: the floor
+    is never crossed. Measured from the body origin the frames use (``com - s e3``); the
+    parts other than the first in steel."""
     s = model.s
-    spheres = [(p.z + s, p.radius) for p in model.shape]
-    lo = min(z - r for z, r in spheres)
-    hi = max(z + r for z, r in spheres)
-    zs = np.unique(np.r_[np.linspace(lo, hi, 97), [z for z, _ in spheres]])
+    profiles = [_part_profile(p, s) for p in model.shape]
+    lo = min(zc - h for zc, h, _ in profiles)
+    hi = max(zc + h for zc, h, _ in profiles)
+    zs = np.unique(np.r_[np.linspace(lo, hi, 97), [zc for zc, _, _ in profiles]])
     r = np.zeros_like(zs)
     owner: np.ndarray = np.zeros(len(zs), dtype=int)
-    for i, (zc, rc) in enumerate(spheres):
-        inside = np.abs(zs - zc) <= rc
-        ri = np.sqrt(np.clip(rc * rc - (zs - zc) ** 2, 0.0, None))
+    for i, (zc, h, radius_at) in enumerate(profiles):
+        inside = np.abs(zs - zc) <= h
+        ri = np.where(inside, radius_at(zs), 0.0)
         better = inside & (ri > r)
         r[better], owner[better] = ri[better], i
     # necks between parts that do not meet
-    order = sorted(range(len(spheres)), key=lambda i: spheres[i][0])
+    order = sorted(range(len(profiles)), key=lambda i: profiles[i][0])
     for a, b in zip(order, order[1:]):
-        (za, ra), (zb, rb) = spheres[a], spheres[b]
-        neck = 0.5 * min(ra, rb) if min(ra, rb) > 0 else 0.05 * max(ra, rb, 1e-3)
-        between = (zs > za) & (zs < zb)
+        pa, pb = model.shape[a], model.shape[b]
+        if pa.kind == "torus" and pb.kind == "torus":
+            neck = min(pa.major, pb.major)
+        else:
+            ra, rb = (float(p[2](p[0])) for p in (profiles[a], profiles[b]))
+            neck = 0.5 * min(ra, rb) if min(ra, rb) > 0 else 0.05 * max(ra, rb, 1e-3)
+        between = (zs > profiles[a][0]) & (zs < profiles[b][0])
         thin = between & (r < neck)
         r[thin], owner[thin] = neck, b
     r[0] = r[-1] = 0.0
     tip = owner[:-1] != 0
-    first = spheres[0][0]
+    first = profiles[0][0]
     far = hi if abs(hi - first) >= abs(lo - first) else lo
     return Shape(zs, r, np.zeros(3), tip, float(far))
 

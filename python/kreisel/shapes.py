@@ -8,15 +8,39 @@ centre of mass G along the figure axis e3 (the classic tip sphere is ``Sphere(rh
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Union
 
 from ._errors import ParameterError
 from ._validate import real
 
-__all__ = ["Sphere"]
+__all__ = ["Sphere", "Spheroid", "Torus"]
 
 
-def _label(name: str | None) -> str:
-    return f"Sphere {name!r}" if name is not None else "Sphere"
+def _label(kind: str, name: str | None) -> str:
+    return f"{kind} {name!r}" if name is not None else kind
+
+
+def _check_name(name) -> None:
+    if name is not None and (not isinstance(name, str) or not name):
+        raise ParameterError(
+            f"name = {name!r} is not allowed: a part's name must be a non-empty string"
+        )
+
+
+def _length(label: str, what: str, value, zero: bool) -> float:
+    x = real(f"{label}: {what}", value)
+    if (zero and x == 0.0) or 1e-100 <= x <= 1e100:
+        return x
+    allowed = "0 (a sharp edge) or a length in" if zero else "a length in"
+    raise ParameterError(f"{label}: {what} = {x!r} is not allowed: it must be {allowed} "
+                         "[1e-100, 1e+100] m")  # fmt: skip
+
+
+def _position(label: str, value) -> float:
+    z = real(f"{label}: z", value)
+    if not abs(z) <= 1e100:
+        raise ParameterError(f"{label}: z = {z!r} is not allowed: |z| must be at most 1e+100 m")
+    return z
 
 
 @dataclass(frozen=True)
@@ -51,25 +75,16 @@ class Sphere:
     name: str | None = None
 
     def __post_init__(self) -> None:
-        label = _label(self.name)
-        if self.name is not None and (not isinstance(self.name, str) or not self.name):
-            raise ParameterError(
-                f"name = {self.name!r} is not allowed: a part's name must be a non-empty string"
-            )
-        r = real(f"{label}: radius", self.radius)
-        if not (r == 0.0 or 1e-100 <= r <= 1e100):
-            raise ParameterError(
-                f"{label}: radius = {r!r} is not allowed: it must be 0 (a sharp point) or a "
-                "length in [1e-100, 1e+100] m"
-            )
-        z = real(f"{label}: z", self.z)
-        if not abs(z) <= 1e100:
-            raise ParameterError(f"{label}: z = {z!r} is not allowed: |z| must be at most 1e+100 m")
-        object.__setattr__(self, "radius", r)
-        object.__setattr__(self, "z", z)
+        _check_name(self.name)
+        label = _label("Sphere", self.name)
+        object.__setattr__(self, "radius", _length(label, "radius", self.radius, True))
+        object.__setattr__(self, "z", _position(label, self.z))
 
-    def _native(self) -> tuple[str, float, float]:
-        return ("sphere", self.radius, self.z)
+    def _native(self) -> tuple[str, float, float, float]:
+        return ("sphere", self.radius, 0.0, self.z)
+
+    def _named(self, name: str) -> Sphere:
+        return Sphere(self.radius, self.z, name)
 
     @property
     def kind(self) -> str:
@@ -77,10 +92,94 @@ class Sphere:
         return "sphere"
 
 
-def _named(parts: object) -> tuple[Sphere, ...]:
+@dataclass(frozen=True)
+class Spheroid:
+    """An ellipsoid of revolution about the figure axis: semi-axes ``equatorial`` (across the
+    axis) and ``axial`` (along it), centred at ``z`` on the axis (m). Its lowest point is the
+    support point in the direction -ez (PHYSICS notes 4.1). A hard-boiled egg is one prolate
+    spheroid (``axial > equatorial``); ``Spheroid(r, r, z)`` is ``Sphere(r, z)``.
+
+    Examples
+    --------
+    >>> from kreisel import PlayTop
+    >>> from kreisel.shapes import Spheroid
+    >>> egg = PlayTop(m=0.06, A=3.1e-5, C=1.9e-5, shape=[Spheroid(0.02, 0.03, z=0.0)])
+    >>> egg.shape[0]
+    Spheroid(equatorial=0.02, axial=0.03, z=0.0, name='part0')
+    """
+
+    equatorial: float
+    axial: float
+    z: float
+    name: str | None = None
+
+    def __post_init__(self) -> None:
+        _check_name(self.name)
+        label = _label("Spheroid", self.name)
+        object.__setattr__(self, "equatorial", _length(label, "equatorial", self.equatorial, False))
+        object.__setattr__(self, "axial", _length(label, "axial", self.axial, False))
+        object.__setattr__(self, "z", _position(label, self.z))
+
+    def _native(self) -> tuple[str, float, float, float]:
+        return ("spheroid", self.equatorial, self.axial, self.z)
+
+    def _named(self, name: str) -> Spheroid:
+        return Spheroid(self.equatorial, self.axial, self.z, name)
+
+    @property
+    def kind(self) -> str:
+        """The part's kind, ``"spheroid"``."""
+        return "spheroid"
+
+
+@dataclass(frozen=True)
+class Torus:
+    """A ring about the figure axis in the plane at ``z`` (m): ``major`` the radius of the
+    tube's centre line, ``minor`` the tube's radius (0: a sharp circular edge, a coin's or a
+    disk's rim, whose contact point moves along the rim). Lying flat (the axis vertical) the
+    whole rim is lowest; a run of a top that settles flat needs issue 15's ``flat`` event.
+
+    Examples
+    --------
+    >>> from kreisel import PlayTop
+    >>> from kreisel.shapes import Torus
+    >>> rim = Torus(0.0375, 0.0, z=0.0, name="rim")
+    >>> PlayTop(m=0.1, A=3.5e-5, C=7e-5, shape=[rim]).part_names
+    ('rim',)
+    """
+
+    major: float
+    minor: float
+    z: float
+    name: str | None = None
+
+    def __post_init__(self) -> None:
+        _check_name(self.name)
+        label = _label("Torus", self.name)
+        object.__setattr__(self, "major", _length(label, "major", self.major, False))
+        object.__setattr__(self, "minor", _length(label, "minor", self.minor, True))
+        object.__setattr__(self, "z", _position(label, self.z))
+
+    def _native(self) -> tuple[str, float, float, float]:
+        return ("torus", self.major, self.minor, self.z)
+
+    def _named(self, name: str) -> Torus:
+        return Torus(self.major, self.minor, self.z, name)
+
+    @property
+    def kind(self) -> str:
+        """The part's kind, ``"torus"``."""
+        return "torus"
+
+
+Part = Union[Sphere, Spheroid, Torus]
+_PARTS = (Sphere, Spheroid, Torus)
+
+
+def _named(parts: object) -> tuple[Part, ...]:
     """The parts of a ``shape`` argument, each named (``part{i}`` by default), checked: at
     least one, at most four, every one a part, no name twice."""
-    if isinstance(parts, Sphere) or not isinstance(parts, (list, tuple)):
+    if isinstance(parts, _PARTS) or not isinstance(parts, (list, tuple)):
         raise ParameterError(
             f"shape = {parts!r} is not allowed: it must be a list of parts, such as "
             "[kreisel.shapes.Sphere(radius, z)]"
@@ -92,11 +191,12 @@ def _named(parts: object) -> tuple[Sphere, ...]:
         )
     out = []
     for i, p in enumerate(parts):
-        if not isinstance(p, Sphere):
+        if not isinstance(p, _PARTS):
             raise ParameterError(
-                f"shape[{i}] = {p!r} is not allowed: a part must be a kreisel.shapes.Sphere"
+                f"shape[{i}] = {p!r} is not allowed: a part must be a kreisel.shapes.Sphere, "
+                "Spheroid or Torus"
             )
-        out.append(p if p.name is not None else Sphere(p.radius, p.z, f"part{i}"))
+        out.append(p if p.name is not None else p._named(f"part{i}"))
     seen: dict[str, int] = {}
     for i, p in enumerate(out):
         assert p.name is not None

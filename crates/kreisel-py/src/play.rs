@@ -104,7 +104,8 @@ impl PyPlayTop {
         })
     }
 
-    /// A play top of contact parts, each `("sphere", radius, z)`.
+    /// A play top of contact parts, each `(kind, a, b, z)`: `("sphere", radius, 0, z)`,
+    /// `("spheroid", equatorial, axial, z)` or `("torus", major, minor, z)`.
     #[staticmethod]
     #[allow(clippy::too_many_arguments)]
     fn with_parts(
@@ -112,7 +113,7 @@ impl PyPlayTop {
         m: f64,
         a: f64,
         c: f64,
-        parts: Vec<(String, f64, f64)>,
+        parts: Vec<(String, f64, f64, f64)>,
         g: f64,
         friction: PyRef<'_, PyFriction>,
         restitution: f64,
@@ -123,10 +124,21 @@ impl PyPlayTop {
         let shapes = parts
             .iter()
             .enumerate()
-            .map(|(i, (kind, x, z))| match kind.as_str() {
+            .map(|(i, (kind, x, y, z))| match kind.as_str() {
                 "sphere" => Ok(Shape::Sphere { radius: *x, z: *z }),
+                "spheroid" => Ok(Shape::Spheroid {
+                    equatorial: *x,
+                    axial: *y,
+                    z: *z,
+                }),
+                "torus" => Ok(Shape::Torus {
+                    major: *x,
+                    minor: *y,
+                    z: *z,
+                }),
                 other => Err(pyo3::exceptions::PyValueError::new_err(format!(
-                    "shape[{i}] is a {other:?}: the parts known are \"sphere\""
+                    "shape[{i}] is a {other:?}: the parts known are \"sphere\", \"spheroid\" \
+                     and \"torus\""
                 ))),
             })
             .collect::<PyResult<Vec<_>>>()?;

@@ -284,7 +284,8 @@ impl Hybrid for Multi<'_> {
         let mut out = Vec::with_capacity(3 * top.parts.n);
         for i in 0..top.parts.n {
             let p = &top.parts.shape[i];
-            let jam = top.may_jam(p.reach() - p.radius(), p.radius());
+            let (lever, radius) = p.levers();
+            let jam = top.may_jam(lever, radius);
             match phase.contacts.mode[i] {
                 Mode::Flight => out.push(MSwitch::Touchdown(i)),
                 Mode::Slip => {

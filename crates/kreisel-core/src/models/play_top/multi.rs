@@ -670,7 +670,11 @@ impl PlayTop {
             return;
         }
         let (Shape::Sphere { radius: ri, z: zi }, Shape::Sphere { radius: rj, z: zj }) =
-            (*self.part(on[0]), *self.part(on[1]));
+            (*self.part(on[0]), *self.part(on[1]))
+        else {
+            // other shapes: their tilt is kept to the integration's tolerance only
+            return;
+        };
         if (zi - zj).abs() <= 1e-12 * self.reach() {
             return;
         }

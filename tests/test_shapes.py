@@ -1,0 +1,129 @@
+"""Contact parts other than spheres (issue 15's first part): spheroids and tori.
+
+References: PHYSICS notes 4.1 (support points) and 4.5 (a disk rolling with its centre at
+rest: Omega^2 sin(alpha) = m g a / A, from the balance of the gravity torque with the turning
+of L; for a thin uniform disk 4 g / a). The derivatives of each part's gap and slip velocity
+are checked against finite differences in the core (shapes.rs); here, whole motions.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import kreisel
+from kreisel import Coulomb, CoulombContensou, ParameterError, PlayTop
+from kreisel.shapes import Sphere, Spheroid, Torus
+
+
+def same(a, b):
+    for name in ("quaternion", "omega", "com", "com_velocity", "dissipated"):
+        np.testing.assert_array_equal(a[name], b[name], err_msg=name)
+
+
+def test_a_round_spheroid_is_the_sphere():
+    """Spheroid(r, r, z) equals Sphere(r, z) bit for bit on the several-part equations (a
+    patch of friction sends both there), and to the tolerance against the one-sphere ones."""
+    law = CoulombContensou(0.3, 5e-4)
+    ball = PlayTop(6e-3, 8e-7, 7e-7, shape=[Sphere(0.015, -0.003)], friction=law)
+    round_ = PlayTop(6e-3, 8e-7, 7e-7, shape=[Spheroid(0.015, 0.015, -0.003)], friction=law)
+    st = ball.state(theta=np.pi - 0.1, psi_dot=180.0)
+    same(kreisel.simulate(ball, st, 1.0), kreisel.simulate(round_, st, 1.0))
+    classic = PlayTop(6e-3, 8e-7, 7e-7, 0.003, 0.015, friction=Coulomb(0.3))
+    shaped = PlayTop(6e-3, 8e-7, 7e-7, shape=[Spheroid(0.015, 0.015, -0.003)],
+                     friction=Coulomb(0.3))  # fmt: skip
+    te = np.linspace(0.0, 0.5, 6)
+    c = kreisel.simulate(classic, st, 0.5, t_eval=te, rtol=1e-11, atol=1e-14)
+    d = kreisel.simulate(shaped, st, 0.5, t_eval=te, rtol=1e-11, atol=1e-14)
+    np.testing.assert_allclose(d.u, c.u, atol=1e-7)
+
+
+def test_a_torus_that_never_touches_changes_nothing():
+    law = CoulombContensou(0.3, 5e-4)
+    ball = PlayTop(6e-3, 8e-7, 7e-7, shape=[Sphere(0.015, -0.003)], friction=law)
+    # a ring inside the ball: never its lowest point
+    ringed = PlayTop(6e-3, 8e-7, 7e-7, shape=[Sphere(0.015, -0.003), Torus(0.005, 0.001, 0.0)],
+                     friction=law)  # fmt: skip
+    st = ball.state(theta=np.pi - 0.1, psi_dot=180.0)
+    b = kreisel.simulate(ringed, st, 1.0)
+    same(kreisel.simulate(ball, st, 1.0), b)
+    assert not b.part_in_contact[:, 1].any()
+
+
+@pytest.mark.parametrize("alpha", [0.3, 0.8, 1.2])
+def test_a_disk_rolling_with_its_centre_at_rest_stays_so(alpha):
+    """Euler's disk on its steady motion (PHYSICS 4.5): a thin uniform disk of radius a
+    (A = m a^2/4, C = m a^2/2, its rim a sharp torus) inclined by alpha, precessing at
+    Omega with Omega^2 sin(alpha) = 4 g / a and spinning at psi_dot = -Omega cos(alpha), rolls
+    without slip with G at rest; it stays on that motion."""
+    a, m, g = 0.0375, 0.1, 9.81
+    disk = PlayTop(m, m * a * a / 4, m * a * a / 2, shape=[Torus(a, 0.0, 0.0, "rim")],
+                   friction=Coulomb(0.5))  # fmt: skip
+    omega = np.sqrt(4 * g / a / np.sin(alpha))
+    st = disk.state(theta=alpha, phi_dot=omega, psi_dot=-omega * np.cos(alpha))
+    te = np.linspace(0.0, 1.0, 2001)
+    run = kreisel.simulate(disk, st, 1.0, t_eval=te)
+    assert set(run.mode) == {"roll"} and run.events == []
+    np.testing.assert_allclose(run.u, np.cos(alpha), atol=1e-12)
+    assert np.abs(run.com_velocity).max() < 1e-12
+    np.testing.assert_allclose(run.part_normal_force[:, 0], m * g, rtol=1e-12)
+    # the axis turns about the vertical at Omega
+    e3 = run.quaternion  # the precession angle from the unwrapped phi column
+    rate = np.polyfit(te, np.unwrap(run.phi), 1)[0]
+    assert rate == pytest.approx(omega, rel=1e-9), e3.shape
+
+
+def test_a_disk_started_off_its_steady_motion_does_not_stay():
+    """The same disk with 10 % less precession: the closed form is what holds it."""
+    a, m, g, alpha = 0.0375, 0.1, 9.81, 0.8
+    disk = PlayTop(m, m * a * a / 4, m * a * a / 2, shape=[Torus(a, 0.0, 0.0)],
+                   friction=Coulomb(0.5))  # fmt: skip
+    omega = 0.9 * np.sqrt(4 * g / a / np.sin(alpha))
+    st = disk.state(theta=alpha, phi_dot=omega, psi_dot=-omega * np.cos(alpha))
+    run = kreisel.simulate(disk, st, 0.2, t_eval=np.linspace(0.0, 0.2, 201))
+    assert np.abs(run.u - np.cos(alpha)).max() > 1e-3
+
+
+def test_an_egg_spun_on_its_side_keeps_its_energy_account():
+    """A prolate spheroid (a hard-boiled egg, uniform: A = m (a^2 + b^2)/5, C = 2 m a^2/5)
+    spun on its side under Coulomb-Contensou friction: the energy never rises and E +
+    dissipated holds."""
+    a, b, m = 0.02, 0.03, 0.06
+    egg = PlayTop(m, m * (a * a + b * b) / 5, 2 * m * a * a / 5, shape=[Spheroid(a, b, 0.0)],
+                  friction=CoulombContensou(0.3, 5e-4))  # fmt: skip
+    st = egg.state(theta=np.pi / 2 - 0.05, phi_dot=40.0)
+    run = kreisel.simulate(egg, st, 1.0, t_eval=np.linspace(0.0, 1.0, 501))
+    assert np.diff(run.energy).max() <= 1e-12
+    total = run.energy + run.dissipated
+    assert np.abs(total - total[0]).max() <= 1e-8 * total[0]
+    # on the floor all along: G at the spheroid's support height
+    phi = np.sqrt(a * a * (1 - run.u**2) + b * b * run.u**2)
+    np.testing.assert_allclose(run.com[:, 2], phi, atol=1e-9)
+
+
+def test_bad_parts_name_the_part():
+    with pytest.raises(ParameterError, match=r"Spheroid 'egg': axial = 0.0 is not allowed"):
+        Spheroid(0.02, 0.0, 0.0, "egg")
+    with pytest.raises(ParameterError, match=r"Torus 'rim': minor = -0.001 is not allowed"):
+        Torus(0.03, -0.001, 0.0, "rim")
+    with pytest.raises(ParameterError, match=r"Torus: major = 0.0 is not allowed"):
+        Torus(0.0, 0.0, 0.0)
+    with pytest.raises(ParameterError, match=r"atlas"):
+        PlayTop(0.1, 3e-5, 6e-5, shape=[Torus(0.03, 0.0, 0.0)]).classify()
+
+
+def test_parts_in_toml_tables():
+    from kreisel._config import from_tables
+
+    tables = {
+        "top": {"kind": "play", "m": 0.1, "A": 3.5e-5, "C": 7e-5,
+                "shape": [{"kind": "torus", "major": 0.0375, "minor": 0.0, "z": 0.0,
+                           "name": "rim"}]},
+        "state": {"theta": 0.5, "phi_dot": 30.0},
+        "simulation": {"t_end": 0.1},
+    }  # fmt: skip
+    problem = from_tables(tables)
+    assert problem.model.shape == (Torus(0.0375, 0.0, 0.0, "rim"),)
+    bad = {**tables, "top": {**tables["top"], "shape": [{"kind": "cone", "z": 0.0}]}}
+    with pytest.raises(ParameterError, match=r"shape\[0\] kind = 'cone' is not allowed"):
+        from_tables(bad)

@@ -6,7 +6,7 @@
 use super::contact::{Phase, Switch};
 use super::multi::{Contacts, Forces};
 use super::simulate::{integrate_phase, LastRhs, PlayRow};
-use super::{Mode, PlayTop, DIM};
+use super::{Mode, PlayTop, Shape, DIM};
 use crate::error::{KreiselError, Result};
 use crate::integrate::{
     Dop853, EventSpec, IntegrateError, Locator, Observer, OdeSystem, Stream, WithEvents,
@@ -41,6 +41,10 @@ pub(crate) trait Hybrid {
     fn value(&self, sw: Self::Switch, phase: &Self::Phase, y: &[f64; DIM], eps: f64) -> f64;
     /// The event's public name and its part.
     fn record(&self, sw: Self::Switch) -> (&'static str, Option<usize>);
+    /// Whether the switch ends the run.
+    fn terminal(&self, _sw: Self::Switch) -> bool {
+        false
+    }
     /// Carries out a switch at the located state.
     fn apply(
         &self,
@@ -138,7 +142,15 @@ pub enum MSwitch {
     /// A sliding part's own coefficient falls towards zero (the Painleve case): a tangential
     /// impact ([`PlayTop::jam_level`]).
     Jam(usize),
+    /// A ring part's plane comes down onto the floor (the top lies flat on that rim): the
+    /// run ends there ([`FLAT_LEVEL`]).
+    Flat(usize),
 }
+
+/// The inclination's sine at which a ring part is taken to lie flat: the contact point's
+/// motion along the rim (and the precession rate) grows without bound as it comes down, as
+/// Euler's disk's does, and the run stops there with the event `flat`.
+pub const FLAT_LEVEL: f64 = 1e-4;
 
 impl MSwitch {
     /// The event's public name.
@@ -149,6 +161,7 @@ impl MSwitch {
             MSwitch::SlipToRoll(_) => "slip_to_roll",
             MSwitch::RollToSlip(_) => "roll_to_slip",
             MSwitch::Jam(_) => "tangential_impact",
+            MSwitch::Flat(_) => "flat",
         }
     }
     /// The part.
@@ -158,7 +171,8 @@ impl MSwitch {
             | MSwitch::LiftOff(i)
             | MSwitch::SlipToRoll(i)
             | MSwitch::RollToSlip(i)
-            | MSwitch::Jam(i) => i,
+            | MSwitch::Jam(i)
+            | MSwitch::Flat(i) => i,
         }
     }
 }
@@ -286,6 +300,9 @@ impl Hybrid for Multi<'_> {
             let p = &top.parts.shape[i];
             let (lever, radius) = p.levers();
             let jam = top.may_jam(lever, radius);
+            if phase.contacts.mode[i] != Mode::Flight && matches!(p, Shape::Torus { .. }) {
+                out.push(MSwitch::Flat(i));
+            }
             match phase.contacts.mode[i] {
                 Mode::Flight => out.push(MSwitch::Touchdown(i)),
                 Mode::Slip => {
@@ -329,11 +346,19 @@ impl Hybrid for Multi<'_> {
             }
             MSwitch::RollToSlip(i) => top.stick_margin(&forces(), i),
             MSwitch::Jam(i) => forces().den[i] - self.jam_level(),
+            MSwitch::Flat(_) => {
+                let u = top.mkin(y).e3[2];
+                (1.0 - u * u).max(0.0).sqrt() - FLAT_LEVEL
+            }
         }
     }
 
     fn record(&self, sw: MSwitch) -> (&'static str, Option<usize>) {
         (sw.name(), Some(sw.part()))
+    }
+
+    fn terminal(&self, sw: MSwitch) -> bool {
+        matches!(sw, MSwitch::Flat(_))
     }
 
     fn apply(&self, sw: MSwitch, phase: &MPhase, y: &mut [f64; DIM], rtol: f64) -> MPhase {
@@ -435,6 +460,7 @@ impl Hybrid for Multi<'_> {
                     hop: f64::INFINITY,
                 }
             }
+            MSwitch::Flat(_) => *phase,
             MSwitch::Jam(i) => {
                 // The tangential impact of the Painleve case: an impulse at the part that
                 // stops its slip, sticking if the cone allows, else sliding until the slip
@@ -659,7 +685,11 @@ pub(crate) fn drive<H: Hybrid>(
                     t: te,
                     part,
                 });
-                reason = Some(sw);
+                if h.terminal(sw) {
+                    stopped = true;
+                } else {
+                    reason = Some(sw);
+                }
             } else {
                 let i = watched[idx - switches.len()];
                 let e = &settings.events[i];

@@ -152,3 +152,71 @@ def test_a_dissipating_disk_precesses_faster_as_it_settles_and_lies_flat_in_fini
     sel = (alpha < 0.05) & (alpha > 0.002)
     slope = np.polyfit(np.log(alpha[sel]), np.log(rate[sel]), 1)[0]
     assert abs(slope + 0.5) < 0.05, slope
+
+
+def test_the_bodies_have_their_uniform_density_inertia():
+    """Independent closed forms: a solid spheroid's moments (2/5 m a^2 about its axis,
+    m (a^2 + b^2)/5 across), a solid cylinder's (m a^2/2, m (3 a^2 + h^2)/12), and the toy
+    top's by numerical integration over its solid of revolution (scipy)."""
+    from scipy import integrate
+
+    from kreisel import bodies
+
+    e = bodies.egg(0.02, 0.03, 0.05)
+    assert (e.C, e.A) == pytest.approx((0.4 * 0.05 * 0.02**2, 0.05 * (0.02**2 + 0.03**2) / 5))
+    d = bodies.disk(0.0375, 0.0125, 0.434)
+    assert (d.C, d.A) == pytest.approx(
+        (0.434 * 0.0375**2 / 2, 0.434 * (3 * 0.0375**2 + 0.0125**2) / 12)
+    )
+    assert [p.z for p in d.shape] == [0.00625, -0.00625]
+    # toy top: radius profile r(z) from the apex (cone, then handle), density from the mass
+    m, big_r, big_h, r_h, l_h = 0.05, 0.025, 0.03, 0.003, 0.02
+    t = bodies.toy_top(m, big_r, big_h, r_h, l_h)
+
+    def radius(z):
+        return big_r * z / big_h if z <= big_h else r_h
+
+    length = big_h + l_h
+    vol = integrate.quad(lambda z: np.pi * radius(z) ** 2, 0, length, points=[big_h])[0]
+    rho = m / vol
+    zg = integrate.quad(lambda z: z * np.pi * radius(z) ** 2, 0, length, points=[big_h])[0]
+    zg /= vol
+    c = integrate.quad(lambda z: rho * np.pi * radius(z) ** 4 / 2, 0, length,
+                       points=[big_h])[0]  # fmt: skip
+
+    def slab(z):  # a slice's moment about the transverse axis through G
+        return rho * np.pi * radius(z) ** 2 * (radius(z) ** 2 / 4 + (z - zg) ** 2)
+
+    a = integrate.quad(slab, 0, length, points=[big_h])[0]
+    assert (t.C, t.A) == pytest.approx((c, a), rel=1e-9)
+    assert t.shape[0].z == pytest.approx(0.001 - zg)  # the tip's centre, 1 mm above the apex
+
+
+@pytest.mark.parametrize("name", ["egg", "euler-disk", "coin", "toy-top"])
+def test_the_body_presets_are_the_bodies(name):
+    from kreisel import bodies
+    from kreisel._config import from_tables, preset
+
+    model = from_tables(preset(name)).model
+    made = {
+        "egg": lambda: bodies.egg(),
+        "euler-disk": lambda: bodies.disk(0.0375, 0.0125, 0.434),
+        "coin": lambda: bodies.disk(0.01213, 0.00175, 0.00567),
+        "toy-top": lambda: bodies.toy_top(),
+    }[name]()
+    assert (model.m, model.A, model.C) == pytest.approx((made.m, made.A, made.C), rel=1e-12)
+    assert model.shape == made.shape
+
+
+def test_an_egg_spun_fast_on_its_side_rises_and_a_slow_one_does_not():
+    """The rising egg (Moffatt & Shimomura, Nature 416 (2002) 385): spun on its side, a
+    prolate spheroid under sliding friction lifts its axis towards the vertical above a
+    threshold spin and stays on its side below it (here 80 against 20 rad/s, 3 s)."""
+    from kreisel import bodies
+
+    egg = bodies.egg()
+    fast = kreisel.simulate(egg, egg.state(theta=np.pi / 2 - 0.1, phi_dot=80.0), 3.0, rtol=1e-8)
+    slow = kreisel.simulate(egg, egg.state(theta=np.pi / 2 - 0.1, phi_dot=20.0), 3.0, rtol=1e-8)
+    assert fast.u[-1] > 0.8 and abs(slow.u[-1]) < 0.2
+    for run in (fast, slow):
+        assert np.diff(run.energy).max() <= 1e-12

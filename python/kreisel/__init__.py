@@ -8,7 +8,7 @@
 SI units and radians throughout; arrays are numpy arrays.
 """
 
-from . import events, shapes
+from . import bodies, events, shapes
 from ._atlas import Classification, Prediction, RegularPrecession, StationaryMotion
 from ._batch import BatchSummary, HeavyBatchSummary, simulate_many
 from ._core import __version__
@@ -49,6 +49,7 @@ __all__ = [
     "Trajectory",
     "Viscous",
     "__version__",
+    "bodies",
     "events",
     "methods",
     "shapes",

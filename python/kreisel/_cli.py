@@ -526,11 +526,18 @@ def _report(problem, data: dict, out: Path):
         click.echo(f"  kind: {a['kind']}")
     else:
         inv = res.get("inversion_time")
-        click.echo(
+        head = (
             f"  alpha = {_num(a['alpha'], '.4g')}, gamma = {_num(a['gamma'], '.4g')}"
             + (" (a tippe top)" if a["tippe_top"] else "")
+            if "alpha" in a
+            else f"  parts: {', '.join(a['parts'])}"
+        )
+        ends = [e for e in res["events"] if e["name"] in ("flat", "rest")]
+        click.echo(
+            head
             + f"; final u = {_num(res['final']['u'], '.5f')} ({res['final']['mode']})"
             + (f"; u rose through 0.9 at t = {_num(inv, '.4f')} s" if inv is not None else "")
+            + "".join(f"; {e['name']} at t = {_num(e['t'], '.4f')} s" for e in ends)
         )
         parts = res.get("parts", {})
         if len(parts) > 1:

@@ -143,6 +143,118 @@ PRESETS = {
             {"t_end": 8.0, "rtol": 1e-9},
         ),
         Preset(
+            "egg",
+            "hard-boiled egg (kreisel.bodies.egg): spun on its side at 80 rad/s, it rises",
+            {
+                "kind": "play",
+                "m": 0.06,
+                "A": 1.6874999999999997e-05,
+                "C": 1.2149999999999999e-05,
+                "shape": [
+                    {
+                        "kind": "spheroid",
+                        "equatorial": 0.0225,
+                        "axial": 0.03,
+                        "z": 0.0,
+                        "name": "shell",
+                    }
+                ],
+                "friction": "coulomb_contensou",
+                "mu": 0.3,
+                "patch_radius": 5e-4,
+            },  # fmt: skip
+            {"theta": 1.4707963267948965, "phi_dot": 80.0},
+            {"t_end": 3.0, "rtol": 1e-8},
+        ),
+        Preset(
+            "euler-disk",
+            "Euler's disk (kreisel.bodies.disk, steel): rolls, precesses faster, lies flat",
+            {
+                "kind": "play",
+                "m": 0.434,
+                "A": 0.00015822916666666665,
+                "C": 0.0003051562499999999,
+                "shape": [
+                    {
+                        "kind": "torus",
+                        "major": 0.0375,
+                        "minor": 0.0,
+                        "z": 0.00625,
+                        "name": "upper_rim",
+                    },
+                    {
+                        "kind": "torus",
+                        "major": 0.0375,
+                        "minor": 0.0,
+                        "z": -0.00625,
+                        "name": "lower_rim",
+                    },
+                ],
+                "friction": "coulomb",
+                "mu": 0.3,
+                "rolling_resistance": 2e-3,
+            },  # fmt: skip
+            {"theta": 0.3, "phi_dot": 58.43299422322014, "psi_dot": -55.82317155030795},
+            {"t_end": 3.0, "rtol": 1e-8, "samples": 3001},
+        ),
+        Preset(
+            "coin",
+            "a spinning coin (kreisel.bodies.disk, a 5.67 g quarter) settling flat",
+            {
+                "kind": "play",
+                "m": 0.00567,
+                "A": 2.1001358700000003e-07,
+                "C": 4.1713311150000004e-07,
+                "shape": [
+                    {
+                        "kind": "torus",
+                        "major": 0.01213,
+                        "minor": 0.0,
+                        "z": 0.000875,
+                        "name": "upper_rim",
+                    },
+                    {
+                        "kind": "torus",
+                        "major": 0.01213,
+                        "minor": 0.0,
+                        "z": -0.000875,
+                        "name": "lower_rim",
+                    },
+                ],
+                "friction": "coulomb",
+                "mu": 0.3,
+                "rolling_resistance": 2e-4,
+            },  # fmt: skip
+            {"theta": 0.3, "phi_dot": 104.2651437505999, "psi_dot": -99.60829636887473},
+            {"t_end": 3.0, "rtol": 1e-8, "samples": 3001},
+        ),
+        Preset(
+            "toy-top",
+            "toy top (kreisel.bodies.toy_top) below its sleeping threshold: falls on its shoulder",
+            {
+                "kind": "play",
+                "m": 0.05,
+                "A": 6.663000333777564e-06,
+                "C": 9.118856920684293e-06,
+                "shape": [
+                    {"radius": 0.001, "z": -0.02198989113530326, "name": "tip"},
+                    {
+                        "kind": "torus",
+                        "major": 0.023,
+                        "minor": 0.002,
+                        "z": 0.005010108864696737,
+                        "name": "shoulder",
+                    },
+                    {"radius": 0.003, "z": 0.02401010886469674, "name": "handle"},
+                ],
+                "friction": "coulomb_contensou",
+                "mu": 0.3,
+                "patch_radius": 2e-4,
+            },  # fmt: skip
+            {"theta": 0.3, "psi_dot": 60.0},
+            {"t_end": 3.0, "rtol": 1e-8},
+        ),
+        Preset(
             "rate-gyro",
             "rate gyro: 150 g rotor balanced to 1 mm, 2000 rad/s: its axis drifts at 7 mrad/s",
             {

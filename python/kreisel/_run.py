@@ -90,7 +90,7 @@ def summary(problem: Problem, traj) -> dict:
         }
     elif problem.kind == "heavy":
         out["analysis"] = {"kind": model.kind, "invariants": model.invariants(state)}
-    else:
+    elif model._p["rho"] > 0:
         a, g = model.alpha, model.gamma
         out["analysis"] = {
             "alpha": a,
@@ -100,6 +100,9 @@ def summary(problem: Problem, traj) -> dict:
             "jellett": model.jellett(state),
             "energy": model.energy(state),
         }
+    else:
+        # a body whose first part is no tip sphere: the one-sphere theory does not apply
+        out["analysis"] = {"parts": list(model.part_names), "energy": model.energy(state)}
     t = traj.t
     res: dict[str, Any] = {"samples": len(t), "t_end": float(t[-1]) if len(t) else 0.0}
     stats = getattr(traj, "stats", None)

@@ -1,0 +1,136 @@
+"""Bodies people spin on a table, as play tops of uniform density: an egg, a disk (Euler's
+disk, a coin) and a toy top. Each helper computes the mass distribution from the geometry
+(the formulas are in each docstring) and returns a :class:`~kreisel.PlayTop` whose contact
+parts (:mod:`kreisel.shapes`) are the body's own surfaces.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any, Union
+
+from ._errors import ParameterError
+from ._play import Coulomb, CoulombContensou, Frictionless, PlayTop, Viscous
+from ._validate import real
+from .shapes import Part, Sphere, Spheroid, Torus
+
+__all__ = ["disk", "egg", "toy_top"]
+
+Law = Union[Coulomb, Viscous, Frictionless, CoulombContensou]
+
+
+def _positive(name: str, value: object) -> float:
+    x = real(name, value)
+    if not 1e-100 <= x <= 1e100:
+        raise ParameterError(f"{name} = {x!r} is not allowed: it must be a length or mass in "
+                             "[1e-100, 1e+100]")  # fmt: skip
+    return x
+
+
+def egg(
+    equatorial: float = 0.0225,
+    axial: float = 0.03,
+    mass: float = 0.06,
+    friction: Law | None = None,
+    **kwargs: Any,
+) -> PlayTop:
+    """A hard-boiled egg as a uniform solid prolate spheroid (semi-axes ``equatorial`` across
+    the axis and ``axial`` along it, m; ``mass`` kg): ``C = 2 m a^2 / 5`` about the axis and
+    ``A = m (a^2 + b^2) / 5`` across it, its one part ``Spheroid(a, b, 0, "shell")`` centred at
+    the centre of mass. Friction defaults to Coulomb-Contensou (mu 0.3 over a 0.5 mm patch);
+    other keywords go to :class:`~kreisel.PlayTop`.
+
+    Examples
+    --------
+    >>> from kreisel import bodies
+    >>> e = bodies.egg()
+    >>> round(e.C, 12), round(e.A, 12), e.part_names
+    (1.215e-05, 1.6875e-05, ('shell',))
+    """
+    a, b, m = (
+        _positive("equatorial", equatorial),
+        _positive("axial", axial),
+        _positive("mass", mass),
+    )
+    friction = CoulombContensou(0.3, 5e-4) if friction is None else friction
+    return PlayTop(m, m * (a * a + b * b) / 5, 2 * m * a * a / 5,
+                   shape=[Spheroid(a, b, 0.0, "shell")], friction=friction, **kwargs)  # fmt: skip
+
+
+def disk(
+    radius: float, thickness: float, mass: float, friction: Law | None = None, **kwargs: Any
+) -> PlayTop:
+    """A uniform solid disk (a cylinder of ``radius`` and ``thickness``, m; ``mass`` kg):
+    ``C = m a^2 / 2`` about its axis and ``A = m (3 a^2 + h^2) / 12`` across it; its contact
+    parts are its two sharp rims, ``Torus(a, 0, +h/2, "upper_rim")`` and ``Torus(a, 0, -h/2,
+    "lower_rim")``. Euler's disk is ``disk(0.0375, 0.0125, 0.1)``-sized; a coin is one too.
+    Friction defaults to Coulomb (mu 0.3).
+
+    Examples
+    --------
+    >>> from kreisel import bodies
+    >>> d = bodies.disk(radius=0.0375, thickness=0.0125, mass=0.4)
+    >>> round(d.C, 9), round(d.A, 9), d.part_names
+    (0.000281, 0.000146, ('upper_rim', 'lower_rim'))
+    """
+    a, h = _positive("radius", radius), _positive("thickness", thickness)
+    m = _positive("mass", mass)
+    friction = Coulomb(0.3) if friction is None else friction
+    return PlayTop(m, m * (3 * a * a + h * h) / 12, m * a * a / 2,
+                   shape=[Torus(a, 0.0, h / 2, "upper_rim"), Torus(a, 0.0, -h / 2, "lower_rim")],
+                   friction=friction, **kwargs)  # fmt: skip
+
+
+def toy_top(
+    mass: float = 0.05,
+    radius: float = 0.025,
+    height: float = 0.03,
+    handle_radius: float = 0.003,
+    handle_length: float = 0.02,
+    tip_radius: float = 0.001,
+    shoulder: float = 0.002,
+    friction: Law | None = None,
+    **kwargs: Any,
+) -> PlayTop:
+    """A classic toy top: a uniform solid cone standing on its apex (base ``radius``,
+    ``height``) with a cylindrical handle on its base (``handle_radius``, ``handle_length``),
+    of one density and total ``mass``. Cone: volume ``pi R^2 H / 3``, centre of mass ``3 H /
+    4`` above the apex, ``C = 3 m R^2 / 10``, ``A = 3 m R^2 / 20 + 3 m H^2 / 80`` about its
+    centre of mass; handle: ``C = m r^2 / 2``, ``A = m (3 r^2 + L^2) / 12``; the two combined
+    about the common centre of mass (parallel axes). Contact parts: the rounded ``tip``
+    (a sphere of ``tip_radius`` at the apex), the ``shoulder`` (the base's rim, a torus of tube
+    radius ``shoulder``) and the ``handle`` end (a sphere of the handle's radius). Friction
+    defaults to Coulomb-Contensou (mu 0.3, patch 0.2 mm).
+
+    Examples
+    --------
+    >>> from kreisel import bodies
+    >>> t = bodies.toy_top()
+    >>> t.part_names, round(t.m, 6)
+    (('tip', 'shoulder', 'handle'), 0.05)
+    """
+    m = _positive("mass", mass)
+    big_r, big_h = _positive("radius", radius), _positive("height", height)
+    r_h, l_h = _positive("handle_radius", handle_radius), _positive("handle_length", handle_length)
+    r_t, r_s = _positive("tip_radius", tip_radius), _positive("shoulder", shoulder)
+    if r_h >= big_r or r_t >= big_h / 2 or r_s >= big_r / 2:
+        raise ParameterError(
+            f"handle_radius = {r_h!r}, tip_radius = {r_t!r}, shoulder = {r_s!r} are not allowed "
+            f"with radius = {big_r!r}, height = {big_h!r}: the handle must be narrower than the "
+            "body, the tip smaller than half the height and the shoulder than half the radius"
+        )
+    v_cone = math.pi * big_r**2 * big_h / 3
+    v_handle = math.pi * r_h**2 * l_h
+    m_c, m_h = m * v_cone / (v_cone + v_handle), m * v_handle / (v_cone + v_handle)
+    z_c, z_h = 0.75 * big_h, big_h + l_h / 2  # from the apex
+    z_g = (m_c * z_c + m_h * z_h) / m
+    c = 0.3 * m_c * big_r**2 + 0.5 * m_h * r_h**2
+    a = (0.15 * m_c * big_r**2 + 3 * m_c * big_h**2 / 80 + m_c * (z_c - z_g) ** 2
+         + m_h * (3 * r_h**2 + l_h**2) / 12 + m_h * (z_h - z_g) ** 2)  # fmt: skip
+    friction = CoulombContensou(0.3, 2e-4) if friction is None else friction
+    parts: list[Part] = [
+        Sphere(r_t, r_t - z_g, "tip"),
+        Torus(big_r - r_s, r_s, big_h - r_s - z_g, "shoulder"),
+        Sphere(r_h, big_h + l_h - r_h - z_g, "handle"),
+    ]
+    return PlayTop(m, a, c, shape=parts, friction=friction, **kwargs)

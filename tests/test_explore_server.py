@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 
 import kreisel
-from kreisel._config import preset
+from kreisel._config import from_tables, preset
 from kreisel.explore import _api
 from kreisel.explore._geometry import axis_tip, body_parts
 
@@ -253,17 +253,12 @@ def test_import_kreisel_does_not_load_the_web_stack():
     assert out.stdout.strip() == "[]"
 
 
-class _Part:
-    def __init__(self, radius, z, name):
-        self.radius, self.z, self.name = radius, z, name
-
-
 def test_the_body_is_drawn_from_the_tops_shape_when_it_has_one():
-    # a top with a ball and a peg (the shape of the multi-part play tops): every part drawn
-    class TwoParts(kreisel.PlayTop):
-        shape = (_Part(0.015, -0.003, "ball"), _Part(0.005, -0.016, "peg"))
+    # a top with a ball and a peg: every part drawn
+    from kreisel.shapes import Sphere
 
-    top = TwoParts(m=6e-3, A=8e-7, C=7e-7, s=0.003, rho=0.015)
+    parts = [Sphere(0.015, -0.003, "ball"), Sphere(0.005, -0.016, "peg")]
+    top = kreisel.PlayTop(m=6e-3, A=8e-7, C=7e-7, shape=parts)
     parts = body_parts(top)
     contact = [(p["kind"], p["name"], p["radius"], p["z"]) for p in parts if p["role"] == "contact"]
     assert contact == [("sphere", "ball", 0.015, -0.003), ("sphere", "peg", 0.005, -0.016)]
@@ -378,3 +373,16 @@ def test_an_oversized_body_sent_without_its_length_is_refused(server):
     conn.close()
     assert r.status == 413
     assert answer["error"].startswith(f"the request body is larger than {_api.MAX_BODY} bytes")
+
+
+@pytest.mark.parametrize("name", ["egg", "euler-disk", "coin", "toy-top"])
+def test_the_bodies_of_revolution_run_and_are_drawn(name):
+    """The presets of spheroids and rings run through the API; every part is drawn (a lathe
+    of its profile), with the body's outline."""
+    tables = preset(name)
+    tables["simulation"]["t_end"] = 0.05
+    run = _api.run(tables)
+    kinds = {p["name"]: p["kind"] for p in run["body"]["parts"]}
+    for part in from_tables(preset(name)).model.part_names:
+        assert part in kinds
+    assert kinds["body"] == "lathe"

@@ -12,29 +12,30 @@ import math
 
 
 def _contact_parts(top) -> list[dict]:
-    """The parts that touch the floor: the top's ``shape`` where it has one (a tuple of parts
-    with ``radius``, ``z`` and ``name``), else its tip sphere (radius rho, centre z = -s)."""
+    """The parts that touch the floor: the top's ``shape`` where it has one, else its tip
+    sphere (radius rho, centre z = -s). A sphere is drawn as a sphere; a spheroid or a torus
+    as a lathe of its profile (the animation's, ``kreisel.animate._part_profile``), with the
+    largest radius as its ``radius``."""
     shape = getattr(top, "shape", None)
-    if shape:
-        return [
-            {
-                "kind": getattr(p, "kind", "sphere"),
-                "name": p.name or f"part{i}",
-                "radius": float(p.radius),
-                "z": float(p.z),
-                "role": "contact",
-            }
-            for i, p in enumerate(shape)
-        ]
-    return [
-        {
-            "kind": "sphere",
-            "name": "tip",
-            "radius": float(top.rho),
-            "z": -float(top.s),
-            "role": "contact",
-        }
-    ]
+    if not shape:
+        return [{"kind": "sphere", "name": "tip", "radius": float(top.rho), "z": -float(top.s),
+                 "role": "contact"}]  # fmt: skip
+    out = []
+    for i, p in enumerate(shape):
+        name = p.name or f"part{i}"
+        if p.kind == "sphere":
+            out.append({"kind": "sphere", "name": name, "radius": float(p.radius),
+                        "z": float(p.z), "role": "contact"})  # fmt: skip
+            continue
+        from ..animate import _part_profile
+
+        zc, half, radius_at = _part_profile(p, 0.0)
+        zs = [zc - half + 2 * half * k / 40 for k in range(41)]
+        rs = [float(radius_at(z)) for z in zs]
+        rs[0] = rs[-1] = 0.0
+        out.append({"kind": "lathe", "name": name, "radius": max(rs), "z": float(zc),
+                    "profile": [[r, z] for r, z in zip(rs, zs)], "role": "contact"})  # fmt: skip
+    return out
 
 
 def _play_hull(top, contact: list[dict]) -> dict:
@@ -125,6 +126,15 @@ def body_parts(top) -> list[dict]:
 
     if isinstance(top, PlayTop):
         contact = _contact_parts(top)
+        if any(p["kind"] != "sphere" for p in contact):
+            # a body of spheroids and rings: drawn as the union of its parts joined by necks
+            # (the animation's profile, measured there from com - s e3)
+            from ..animate import _parts_shape
+
+            body = _parts_shape(top)
+            profile = [[float(r), float(z) - float(top.s)] for r, z in zip(body.r, body.z)]
+            hull = {"kind": "lathe", "name": "body", "profile": profile, "role": "hull"}
+            return [*contact, hull]
         return [*contact, _play_hull(top, contact)]
     pivot = {"kind": "sphere", "name": "pivot", "radius": 0.0, "z": 0.0, "role": "pivot"}
     if isinstance(top, LagrangeTop):
@@ -174,7 +184,7 @@ def axis_tip(parts: list[dict]) -> float:
     for p in parts:
         if p["kind"] == "sphere":
             reach = max(reach, p["z"] + p["radius"])
-        elif p["kind"] == "lathe":
+        elif p["kind"] == "lathe":  # a hull, or a spheroid's or a ring's profile
             reach = max(reach, max(z for _, z in p["profile"]))
         elif p["kind"] == "ellipsoid":
             reach = max(reach, p["center"][2] + p["radii"][2])

@@ -131,8 +131,8 @@ def body_parts(top) -> list[dict]:
             # (the animation's profile, measured there from com - s e3)
             from ..animate import _parts_shape
 
-            body = _parts_shape(top)
-            profile = [[float(r), float(z) - float(top.s)] for r, z in zip(body.r, body.z)]
+            drawn = _parts_shape(top)
+            profile = [[float(r), float(z) - float(top.s)] for r, z in zip(drawn.r, drawn.z)]
             hull = {"kind": "lathe", "name": "body", "profile": profile, "role": "hull"}
             return [*contact, hull]
         return [*contact, _play_hull(top, contact)]

@@ -220,3 +220,39 @@ def test_an_egg_spun_fast_on_its_side_rises_and_a_slow_one_does_not():
     assert fast.u[-1] > 0.8 and abs(slow.u[-1]) < 0.2
     for run in (fast, slow):
         assert np.diff(run.energy).max() <= 1e-12
+
+
+@pytest.mark.parametrize(("alpha", "rho"), [(1.2, -0.1), (1.0, -0.05), (0.6, -0.03), (1.3, 3e-4)])
+def test_a_coin_rolls_on_a_circle_of_the_radius_of_its_closed_form(alpha, rho):
+    """Steady rolling of a thin disk on a circle, derived here from Newton-Euler about G
+    (independent of the code): axis at alpha from the vertical precessing at Omega, spin
+    w3 = omega . e3; rolling gives G the velocity -a w3 (perpendicular to the vertical plane
+    of the axis), so G moves on a circle of signed radius rho = a w3 / Omega; the horizontal
+    force m Omega^2 rho, the normal force m g and dL/dt = (C w3 - A Omega cos(alpha)) Omega
+    sin(alpha) (along that perpendicular) give
+
+        w3 (C + m a^2) Omega sin(alpha) = cos(alpha) (A Omega^2 sin(alpha) - m g a),
+
+    which at rho = 0 is Euler's disk (PHYSICS 4.5). For a given circle: Omega^2 = m g a
+    cos(alpha) / (A sin(alpha) cos(alpha) - rho (C + m a^2) sin(alpha) / a)."""
+    a, m, g = 0.0121, 0.00567, 9.81
+    big_a, big_c = m * a * a / 4, m * a * a / 2
+    # friction enough to hold the rolling: |m Omega^2 rho| <= mu m g (checked below)
+    coin = PlayTop(m, big_a, big_c, shape=[Torus(a, 0.0, 0.0, "rim")], friction=Coulomb(2.0))
+    omega = np.sqrt(m * g * a * np.cos(alpha)
+                    / (big_a * np.sin(alpha) * np.cos(alpha)
+                       - rho * (big_c + m * a * a) * np.sin(alpha) / a))  # fmt: skip
+    w3 = rho * omega / a
+    assert omega**2 * abs(rho) < 2.0 * g
+    # phi = pi/2: the axis leans towards +x; G's velocity -a w3 along y
+    st = coin.state(theta=alpha, phi=np.pi / 2, phi_dot=omega, psi_dot=w3 - omega * np.cos(alpha),
+                    vy=-a * w3)  # fmt: skip
+    centre = st.com[:2] + np.array([rho, 0.0])
+    te = np.linspace(0.0, 2 * np.pi / omega * 3, 601)  # three turns
+    run = kreisel.simulate(coin, st, te[-1], t_eval=te)
+    assert set(run.mode) == {"roll"} and run.events == []
+    np.testing.assert_allclose(run.u, np.cos(alpha), atol=1e-10)
+    np.testing.assert_allclose(np.hypot(*(run.com[:, :2] - centre).T), abs(rho), rtol=1e-8)
+    np.testing.assert_allclose(np.linalg.norm(run.com_velocity, axis=1), abs(rho) * omega,
+                               rtol=1e-8)  # fmt: skip
+    np.testing.assert_allclose(run.part_normal_force[:, 0], m * g, rtol=1e-8)

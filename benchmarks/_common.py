@@ -115,3 +115,29 @@ def drift(x):
     """Largest |x - x[0]| / |x[0]|."""
     x = np.asarray(x)
     return float(np.max(np.abs(x - x[0])) / abs(x[0]))
+
+
+def mujoco_or_none(script: str):
+    """The mujoco module, or None after saying that ``script`` skips for want of it."""
+    try:
+        import mujoco
+    except ImportError:
+        print(
+            f"{script}: MuJoCo is not installed; skipping "
+            "(pip install -r requirements-bench.txt to run this benchmark)."
+        )
+        return None
+    return mujoco
+
+
+def repeats_and_t_end(doc: str, t_end: float, argv=None):
+    """The command line of a timed run: ``--repeats`` (best of, default 3) and ``--t-end``."""
+    import argparse
+
+    parser = argparse.ArgumentParser(description=doc.splitlines()[0])
+    parser.add_argument("--repeats", type=int, default=3, help="best of this many (default 3)")
+    parser.add_argument("--t-end", type=float, default=t_end, help=f"seconds (default {t_end:g})")
+    args = parser.parse_args(argv)
+    if args.repeats < 1 or not args.t_end > 0:
+        parser.error("--repeats and --t-end must be positive")
+    return args

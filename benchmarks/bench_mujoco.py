@@ -31,7 +31,7 @@ import time
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 import numpy as np
-from _common import quat_to_matrix
+from _common import mujoco_or_none, quat_to_matrix
 
 import kreisel
 
@@ -161,13 +161,8 @@ def main(argv=None):
     args = parser.parse_args(argv)
     if args.steps < 1 or args.repeats < 1 or not args.dt > 0:
         parser.error("--steps, --repeats and --dt must be positive")
-    try:
-        import mujoco
-    except ImportError:
-        print(
-            "bench_mujoco: MuJoCo is not installed; skipping "
-            "(pip install -r requirements-bench.txt to run this benchmark)."
-        )
+    mujoco = mujoco_or_none("bench_mujoco")
+    if mujoco is None:
         return None
 
     dt, steps = args.dt, args.steps

@@ -33,7 +33,6 @@ rise. The two runs need not agree on the inversion.
 
 from __future__ import annotations
 
-import argparse
 import json
 import math
 import os
@@ -44,7 +43,7 @@ import time
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 import numpy as np
-from _common import drift, quat_to_matrix
+from _common import drift, mujoco_or_none, quat_to_matrix, repeats_and_t_end
 
 import kreisel
 
@@ -160,19 +159,9 @@ def run_kreisel(mass, s, big_a, big_c, t_end, repeats):
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--repeats", type=int, default=3, help="best of this many (default 3)")
-    parser.add_argument("--t-end", type=float, default=T_END, help="seconds (default 7)")
-    args = parser.parse_args(argv)
-    if args.repeats < 1 or not args.t_end > 0:
-        parser.error("--repeats and --t-end must be positive")
-    try:
-        import mujoco
-    except ImportError:
-        print(
-            "bench_tippe_mujoco: MuJoCo is not installed; skipping "
-            "(pip install -r requirements-bench.txt to run this benchmark)."
-        )
+    args = repeats_and_t_end(__doc__, T_END, argv)
+    mujoco = mujoco_or_none("bench_tippe_mujoco")
+    if mujoco is None:
         return None
 
     steps = round(args.t_end / DT)

@@ -26,7 +26,6 @@ says so and exits 0.
 
 from __future__ import annotations
 
-import argparse
 import json
 import math
 import os
@@ -37,7 +36,7 @@ import time
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 import numpy as np
-from _common import cpu_counters, steal_share
+from _common import cpu_counters, mujoco_or_none, repeats_and_t_end, steal_share
 from bench_tippe_mujoco import DT, LEVEL, OMEGA_BODY, RHO, G, compiled_body, first_above
 
 import kreisel
@@ -143,19 +142,9 @@ def first_true(t, flags):
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--repeats", type=int, default=3, help="best of this many (default 3)")
-    parser.add_argument("--t-end", type=float, default=T_END, help="seconds (default 7)")
-    args = parser.parse_args(argv)
-    if args.repeats < 1 or not args.t_end > 0:
-        parser.error("--repeats and --t-end must be positive")
-    try:
-        import mujoco
-    except ImportError:
-        print(
-            "bench_tippe_peg_mujoco: MuJoCo is not installed; skipping "
-            "(pip install -r requirements-bench.txt to run this benchmark)."
-        )
+    args = repeats_and_t_end(__doc__, T_END, argv)
+    mujoco = mujoco_or_none("bench_tippe_peg_mujoco")
+    if mujoco is None:
         return None
 
     steps = round(args.t_end / DT)

@@ -154,40 +154,47 @@ def test_a_dissipating_disk_precesses_faster_as_it_settles_and_lies_flat_in_fini
     assert abs(slope + 0.5) < 0.05, slope
 
 
-def test_the_bodies_have_their_uniform_density_inertia():
-    """Independent closed forms: a solid spheroid's moments (2/5 m a^2 about its axis,
-    m (a^2 + b^2)/5 across), a solid cylinder's (m a^2/2, m (3 a^2 + h^2)/12), and the toy
-    top's by numerical integration over its solid of revolution (scipy)."""
+def _solid_of_revolution(radius, z0, z1, mass, kinks=()):
+    """(C, A about G, z of G) of a uniform solid of revolution of radius profile radius(z) on
+    [z0, z1] and the given mass, by slices (scipy quadrature): a slice of radius r at z has
+    the axial moment pi r^4 / 2 and the transverse pi r^2 (r^2 / 4 + (z - z_G)^2) per unit
+    density and length."""
     from scipy import integrate
 
+    def quad(f):
+        return integrate.quad(f, z0, z1, points=list(kinks) or None)[0]
+
+    vol = quad(lambda z: np.pi * radius(z) ** 2)
+    rho = mass / vol
+    zg = quad(lambda z: z * np.pi * radius(z) ** 2) / vol
+    c = rho * quad(lambda z: np.pi * radius(z) ** 4 / 2)
+    a = rho * quad(lambda z: np.pi * radius(z) ** 2 * (radius(z) ** 2 / 4 + (z - zg) ** 2))
+    return c, a, zg
+
+
+def test_the_bodies_have_their_uniform_density_inertia():
+    """Independent closed forms: a solid spheroid's moments (2/5 m a^2 about its axis,
+    m (a^2 + b^2)/5 across), a solid cylinder's (m a^2/2, m (3 a^2 + h^2)/12); and every body
+    by numerical integration over its solid of revolution (scipy)."""
     from kreisel import bodies
 
     e = bodies.egg(0.02, 0.03, 0.05)
     assert (e.C, e.A) == pytest.approx((0.4 * 0.05 * 0.02**2, 0.05 * (0.02**2 + 0.03**2) / 5))
+    c, a, zg = _solid_of_revolution(lambda z: 0.02 * np.sqrt(max(1 - (z / 0.03) ** 2, 0.0)),
+                                    -0.03, 0.03, 0.05)  # fmt: skip
+    assert (e.C, e.A, e.shape[0].z) == pytest.approx((c, a, zg), rel=1e-8, abs=1e-15)
     d = bodies.disk(0.0375, 0.0125, 0.434)
     assert (d.C, d.A) == pytest.approx(
         (0.434 * 0.0375**2 / 2, 0.434 * (3 * 0.0375**2 + 0.0125**2) / 12)
     )
+    c, a, zg = _solid_of_revolution(lambda z: 0.0375, -0.00625, 0.00625, 0.434)
+    assert (d.C, d.A) == pytest.approx((c, a), rel=1e-9) and zg == pytest.approx(0.0, abs=1e-15)
     assert [p.z for p in d.shape] == [0.00625, -0.00625]
     # toy top: radius profile r(z) from the apex (cone, then handle), density from the mass
     m, big_r, big_h, r_h, l_h = 0.05, 0.025, 0.03, 0.003, 0.02
     t = bodies.toy_top(m, big_r, big_h, r_h, l_h)
-
-    def radius(z):
-        return big_r * z / big_h if z <= big_h else r_h
-
-    length = big_h + l_h
-    vol = integrate.quad(lambda z: np.pi * radius(z) ** 2, 0, length, points=[big_h])[0]
-    rho = m / vol
-    zg = integrate.quad(lambda z: z * np.pi * radius(z) ** 2, 0, length, points=[big_h])[0]
-    zg /= vol
-    c = integrate.quad(lambda z: rho * np.pi * radius(z) ** 4 / 2, 0, length,
-                       points=[big_h])[0]  # fmt: skip
-
-    def slab(z):  # a slice's moment about the transverse axis through G
-        return rho * np.pi * radius(z) ** 2 * (radius(z) ** 2 / 4 + (z - zg) ** 2)
-
-    a = integrate.quad(slab, 0, length, points=[big_h])[0]
+    c, a, zg = _solid_of_revolution(lambda z: big_r * z / big_h if z <= big_h else r_h,
+                                    0.0, big_h + l_h, m, kinks=[big_h])  # fmt: skip
     assert (t.C, t.A) == pytest.approx((c, a), rel=1e-9)
     assert t.shape[0].z == pytest.approx(0.001 - zg)  # the tip's centre, 1 mm above the apex
 

@@ -262,12 +262,17 @@ def _parts(shape) -> list:
     """The parts of a ``shape`` field: an array of tables, each a sphere ``{radius, z}``, a
     spheroid ``{kind = "spheroid", equatorial, axial, z}`` or a torus ``{kind = "torus", major,
     minor, z}``, with an optional ``name``."""
+    import dataclasses
+
     from .shapes import Sphere, Spheroid, Torus
 
+    # each kind's fields are its class's own (the name aside)
     kinds = {
-        "sphere": (Sphere, ("radius", "z")),
-        "spheroid": (Spheroid, ("equatorial", "axial", "z")),
-        "torus": (Torus, ("major", "minor", "z")),
+        cls.__name__.lower(): (
+            cls,
+            tuple(f.name for f in dataclasses.fields(cls) if f.name != "name"),
+        )
+        for cls in (Sphere, Spheroid, Torus)
     }
     if not isinstance(shape, list) or not shape:
         raise ParameterError(
@@ -291,7 +296,7 @@ def _parts(shape) -> list:
                 f"shape[{i}] = {part!r} is not allowed: a {kind} is a table with "
                 f"{', '.join(fields)} (and optionally name)"
             )
-        out.append(cls(*(part[f] for f in fields), part.get("name")))
+        out.append(cls(**{f: part[f] for f in fields}, name=part.get("name")))
     return out
 
 

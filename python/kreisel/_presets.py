@@ -6,7 +6,10 @@ Each preset is what a ``kreisel run`` TOML file holds: a ``[top]`` table (with i
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
+
+from . import bodies
 
 # The toy top of the demo and the README: 100 g, centre of mass 4 cm above the tip, a disc of
 # radius 2 cm (I3 = m R^2 / 2); sleeping threshold 262 rad/s.
@@ -43,6 +46,36 @@ class Preset:
     @property
     def kind(self) -> str:
         return self.top["kind"]
+
+
+def _body_table(top) -> dict:
+    """The [top] table of a play top built by kreisel.bodies: its numbers, its parts, its
+    friction law."""
+    import dataclasses
+
+    from ._play import CoulombContensou
+
+    law = top.friction
+    table = {"kind": "play", "m": top.m, "A": top.A, "C": top.C,
+             "shape": [{"kind": p.kind, **dataclasses.asdict(p)} for p in top.shape]}  # fmt: skip
+    if isinstance(law, CoulombContensou):
+        table.update(friction="coulomb_contensou", mu=law.mu, patch_radius=law.radius)
+    else:
+        table.update(friction="coulomb", mu=law.mu)
+    if top.rolling_resistance:
+        table["rolling_resistance"] = top.rolling_resistance
+    return table
+
+
+def _disk_preset(name, summary, radius, thickness, mass, rolling) -> Preset:
+    """A disk started near its rolling with the centre at rest at 0.3 rad (PHYSICS 4.5:
+    Omega^2 sin(alpha) = m g a / A, psi_dot = -Omega cos(alpha))."""
+    top = bodies.disk(radius, thickness, mass, rolling_resistance=rolling)
+    alpha = 0.3
+    omega = math.sqrt(mass * 9.81 * radius / top.A / math.sin(alpha))
+    return Preset(name, summary, _body_table(top),
+                  {"theta": alpha, "phi_dot": omega, "psi_dot": -omega * math.cos(alpha)},
+                  {"t_end": 3.0, "rtol": 1e-8, "samples": 3001})  # fmt: skip
 
 
 PRESETS = {
@@ -145,112 +178,30 @@ PRESETS = {
         Preset(
             "egg",
             "hard-boiled egg (kreisel.bodies.egg): spun on its side at 80 rad/s, it rises",
-            {
-                "kind": "play",
-                "m": 0.06,
-                "A": 1.6874999999999997e-05,
-                "C": 1.2149999999999999e-05,
-                "shape": [
-                    {
-                        "kind": "spheroid",
-                        "equatorial": 0.0225,
-                        "axial": 0.03,
-                        "z": 0.0,
-                        "name": "shell",
-                    }
-                ],
-                "friction": "coulomb_contensou",
-                "mu": 0.3,
-                "patch_radius": 5e-4,
-            },  # fmt: skip
-            {"theta": 1.4707963267948965, "phi_dot": 80.0},
+            _body_table(bodies.egg()),
+            {"theta": math.pi / 2 - 0.1, "phi_dot": 80.0},
             {"t_end": 3.0, "rtol": 1e-8},
         ),
-        Preset(
+        _disk_preset(
             "euler-disk",
             "Euler's disk (kreisel.bodies.disk, steel): rolls, precesses faster, lies flat",
-            {
-                "kind": "play",
-                "m": 0.434,
-                "A": 0.00015822916666666665,
-                "C": 0.0003051562499999999,
-                "shape": [
-                    {
-                        "kind": "torus",
-                        "major": 0.0375,
-                        "minor": 0.0,
-                        "z": 0.00625,
-                        "name": "upper_rim",
-                    },
-                    {
-                        "kind": "torus",
-                        "major": 0.0375,
-                        "minor": 0.0,
-                        "z": -0.00625,
-                        "name": "lower_rim",
-                    },
-                ],
-                "friction": "coulomb",
-                "mu": 0.3,
-                "rolling_resistance": 2e-3,
-            },  # fmt: skip
-            {"theta": 0.3, "phi_dot": 58.43299422322014, "psi_dot": -55.82317155030795},
-            {"t_end": 3.0, "rtol": 1e-8, "samples": 3001},
-        ),
-        Preset(
+            0.0375,
+            0.0125,
+            0.434,
+            2e-3,
+        ),  # fmt: skip
+        _disk_preset(
             "coin",
             "a spinning coin (kreisel.bodies.disk, a 5.67 g quarter) settling flat",
-            {
-                "kind": "play",
-                "m": 0.00567,
-                "A": 2.1001358700000003e-07,
-                "C": 4.1713311150000004e-07,
-                "shape": [
-                    {
-                        "kind": "torus",
-                        "major": 0.01213,
-                        "minor": 0.0,
-                        "z": 0.000875,
-                        "name": "upper_rim",
-                    },
-                    {
-                        "kind": "torus",
-                        "major": 0.01213,
-                        "minor": 0.0,
-                        "z": -0.000875,
-                        "name": "lower_rim",
-                    },
-                ],
-                "friction": "coulomb",
-                "mu": 0.3,
-                "rolling_resistance": 2e-4,
-            },  # fmt: skip
-            {"theta": 0.3, "phi_dot": 104.2651437505999, "psi_dot": -99.60829636887473},
-            {"t_end": 3.0, "rtol": 1e-8, "samples": 3001},
-        ),
+            0.01213,
+            0.00175,
+            0.00567,
+            2e-4,
+        ),  # fmt: skip
         Preset(
             "toy-top",
             "toy top (kreisel.bodies.toy_top) below its sleeping threshold: falls on its shoulder",
-            {
-                "kind": "play",
-                "m": 0.05,
-                "A": 6.663000333777564e-06,
-                "C": 9.118856920684293e-06,
-                "shape": [
-                    {"radius": 0.001, "z": -0.02198989113530326, "name": "tip"},
-                    {
-                        "kind": "torus",
-                        "major": 0.023,
-                        "minor": 0.002,
-                        "z": 0.005010108864696737,
-                        "name": "shoulder",
-                    },
-                    {"radius": 0.003, "z": 0.02401010886469674, "name": "handle"},
-                ],
-                "friction": "coulomb_contensou",
-                "mu": 0.3,
-                "patch_radius": 2e-4,
-            },  # fmt: skip
+            _body_table(bodies.toy_top()),
             {"theta": 0.3, "psi_dot": 60.0},
             {"t_end": 3.0, "rtol": 1e-8},
         ),

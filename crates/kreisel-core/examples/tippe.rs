@@ -41,7 +41,7 @@ fn main() {
     );
     let j0 = top.jellett(&out.rows[0].y);
     for (t, row) in out.t.iter().zip(&out.rows) {
-        let (yy, md) = (&row.y, &row.mode);
+        let (yy, md) = (&row.y, &row.mode());
         let (a, b, cc) = top.energy_parts(yy);
         println!(
             "{t:5.2} u={:+.5} J rel={:+.2e} E+D={:.12e} mode={:?} N={:.4e}",
@@ -51,7 +51,7 @@ fn main() {
             md,
             {
                 let mut dy = [0.0; DIM];
-                top.dynamics(*md, yy, row.dir, &mut dy).n
+                top.dynamics(*md, yy, row.dir(), &mut dy).n
             }
         );
     }

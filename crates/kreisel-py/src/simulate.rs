@@ -376,7 +376,7 @@ pub fn simulate<'py>(
             let dissipated: Vec<f64> = out.rows.iter().map(|r| r.y[13]).collect();
             d.set_item("dissipated", dissipated.into_pyarray(py))?;
             // Codes (see `names()["modes"]`): one array, not a Python string per output.
-            let modes: Vec<u8> = out.rows.iter().map(|r| r.mode.code()).collect();
+            let modes: Vec<u8> = out.rows.iter().map(|r| r.mode().code()).collect();
             d.set_item("mode", modes.into_pyarray(py))?;
             d.set_item("derived", PlayTop::COLUMN_NAMES.to_vec())?;
             info_into(py, &d, &out.info)?;

@@ -496,14 +496,9 @@ impl Hybrid for Multi<'_> {
     }
 
     fn row(&self, phase: &MPhase, y: &[f64; DIM]) -> PlayRow {
-        let n = self.0.parts.n;
-        let c = &phase.contacts;
-        let first = (0..n).find(|&i| c.mode[i] != Mode::Flight).unwrap_or(0);
         PlayRow {
             y: *y,
-            mode: c.overall(n),
-            dir: [c.dir[first][0], c.dir[first][1], 0.0],
-            contacts: *c,
+            contacts: phase.contacts,
         }
     }
 

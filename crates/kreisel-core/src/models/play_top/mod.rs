@@ -280,23 +280,33 @@ pub struct Kin {
     pub u: f64,
 }
 
+/// `r v`: a body-frame vector in space (`r` the row-major rotation body -> space).
+#[inline(always)]
+pub(crate) fn to_space(r: &[[f64; 3]; 3], v: [f64; 3]) -> [f64; 3] {
+    [dot(r[0], v), dot(r[1], v), dot(r[2], v)]
+}
+
+/// `r^T v`: a space-frame vector in the body frame.
+#[inline(always)]
+pub(crate) fn to_body(r: &[[f64; 3]; 3], v: [f64; 3]) -> [f64; 3] {
+    [
+        dot([r[0][0], r[1][0], r[2][0]], v),
+        dot([r[0][1], r[1][1], r[2][1]], v),
+        dot([r[0][2], r[1][2], r[2][2]], v),
+    ]
+}
+
 impl Kin {
     /// A body-frame vector in space.
     #[inline(always)]
     pub fn to_space(&self, v: [f64; 3]) -> [f64; 3] {
-        let r = &self.r;
-        [dot(r[0], v), dot(r[1], v), dot(r[2], v)]
+        to_space(&self.r, v)
     }
 
     /// A space-frame vector in the body frame.
     #[inline(always)]
     pub fn to_body(&self, v: [f64; 3]) -> [f64; 3] {
-        let r = &self.r;
-        [
-            dot([r[0][0], r[1][0], r[2][0]], v),
-            dot([r[0][1], r[1][1], r[2][1]], v),
-            dot([r[0][2], r[1][2], r[2][2]], v),
-        ]
+        to_body(&self.r, v)
     }
 }
 

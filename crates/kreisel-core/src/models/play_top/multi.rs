@@ -21,7 +21,7 @@
 #![allow(clippy::needless_range_loop)]
 
 use super::shapes::{Shape, MAX_PARTS};
-use super::{Friction, Mode, PlayTop, DIM};
+use super::{add, scale, Friction, Mode, PlayTop, DIM};
 use crate::rotation::{cross, dot, Quat};
 
 const EX: [f64; 3] = [1.0, 0.0, 0.0];
@@ -30,13 +30,6 @@ const EZ: [f64; 3] = [0.0, 0.0, 1.0];
 const ZERO: [f64; 3] = [0.0; 3];
 /// The most unknowns of one system: four per part.
 const MAXU: usize = 4 * MAX_PARTS;
-
-fn add(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
-}
-fn scale(k: f64, a: [f64; 3]) -> [f64; 3] {
-    [k * a[0], k * a[1], k * a[2]]
-}
 
 /// Every part's contact mode (slip, roll = stick, flight = not touching) and the slip
 /// direction (horizontal, space frame) a Coulomb force takes where the slip speed is zero.
@@ -96,17 +89,13 @@ pub struct MKin {
 }
 
 impl MKin {
+    #[inline(always)]
     fn to_space(self, v: [f64; 3]) -> [f64; 3] {
-        let r = &self.r;
-        [dot(r[0], v), dot(r[1], v), dot(r[2], v)]
+        super::to_space(&self.r, v)
     }
+    #[inline(always)]
     fn to_body(self, v: [f64; 3]) -> [f64; 3] {
-        let r = &self.r;
-        [
-            r[0][0] * v[0] + r[1][0] * v[1] + r[2][0] * v[2],
-            r[0][1] * v[0] + r[1][1] * v[1] + r[2][1] * v[2],
-            r[0][2] * v[0] + r[1][2] * v[1] + r[2][2] * v[2],
-        ]
+        super::to_body(&self.r, v)
     }
 }
 
@@ -245,7 +234,13 @@ impl<const U: usize> System<U> {
 #[derive(Debug, Clone, Copy, PartialEq)]
 enum Unknown {
     /// A sliding part's normal force, its friction per unit N given.
-    SlipN { part: usize, ft: [f64; 2], mz: f64 },
+    SlipN {
+        part: usize,
+        ft: [f64; 2],
+        mz: f64,
+        /// The friction's power per unit N at the part's slip and drilling rates.
+        power: f64,
+    },
     /// A sticking part's normal force.
     StickN(usize),
     /// A sticking part's tangential force along x or y.
@@ -261,7 +256,7 @@ impl PlayTop {
         let q = Quat([y[0], y[1], y[2], y[3]]);
         let r = q.unit_matrix();
         let wb = [y[4], y[5], y[6]];
-        let w = [dot(r[0], wb), dot(r[1], wb), dot(r[2], wb)];
+        let w = super::to_space(&r, wb);
         MKin {
             q,
             r,
@@ -369,16 +364,19 @@ impl PlayTop {
             vd = add(vd, scale(x[j], dvs[j]));
             wd = add(wd, scale(x[j], dws[j]));
             match what[j] {
-                Unknown::SlipN { part, ft, mz } => {
+                Unknown::SlipN {
+                    part,
+                    ft,
+                    mz,
+                    power,
+                } => {
                     let n = x[j];
                     out.n[part] = n;
                     out.ft[part] = [n * ft[0], n * ft[1]];
                     out.mz[part] = n * mz;
                     out.den[part] = diag[j];
                     n_total += n;
-                    let vp = self.part(part).point_velocity(k.v, k.w, k.e3);
-                    p_friction +=
-                        out.ft[part][0] * vp[0] + out.ft[part][1] * vp[1] + out.mz[part] * k.w[2];
+                    p_friction += n * power;
                 }
                 Unknown::StickN(part) => {
                     out.n[part] = x[j];
@@ -446,7 +444,13 @@ impl PlayTop {
                     let (ft, mz) = self.friction_per_n(vp, k.w[2], c.dir[i]);
                     let f = [ft[0], ft[1], 1.0];
                     let t = add(add(cross(arm, f), scale(mz, EZ)), res_n);
-                    what[sys.n] = Unknown::SlipN { part: i, ft, mz };
+                    let power = ft[0] * vp[0] + ft[1] * vp[1] + mz * k.w[2];
+                    what[sys.n] = Unknown::SlipN {
+                        part: i,
+                        ft,
+                        mz,
+                        power,
+                    };
                     sys.push(f, t, EZ, jw_n, rhs_n);
                 }
                 Mode::Roll => {
@@ -657,39 +661,43 @@ impl PlayTop {
         }
     }
 
-    /// Two spheres touching at once fix the tilt: `zg + z_i u - r_i = 0` for both gives
-    /// `u = (r_i - r_j) / (z_i - z_j)`. Puts the orientation on that tilt (a rotation about
-    /// the horizontal axis `ez x e3`) and removes the tilting rate (the angular velocity's
-    /// component along that axis); the kinetic energy that removal takes, of the order of the
-    /// integration's error, is added to the dissipated energy.
+    /// Two parts touching at once fix the tilt: their gaps `z_G + z u - phi(u)` are both zero,
+    /// so `(z_i - z_j) u - phi_i(u) + phi_j(u) = 0` (for two spheres
+    /// `u = (r_i - r_j) / (z_i - z_j)`), solved by Newton's method from the current tilt.
+    /// Puts the orientation on that tilt (a rotation about the horizontal axis `ez x e3`) and
+    /// removes the tilting rate (the angular velocity's component along that axis); the
+    /// kinetic energy that removal takes, of the order of the integration's error, is added
+    /// to the dissipated energy.
     fn fix_tilt(&self, c: &Contacts, y: &mut [f64; DIM]) {
-        let on: Vec<usize> = (0..self.parts.n)
-            .filter(|&i| c.mode[i] != Mode::Flight)
-            .collect();
-        if on.len() < 2 {
-            return;
-        }
-        let (Shape::Sphere { radius: ri, z: zi }, Shape::Sphere { radius: rj, z: zj }) =
-            (*self.part(on[0]), *self.part(on[1]))
-        else {
-            // other shapes: their tilt is kept to the integration's tolerance only
+        let mut on = (0..self.parts.n).filter(|&i| c.mode[i] != Mode::Flight);
+        let (Some(i), Some(j)) = (on.next(), on.next()) else {
             return;
         };
-        if (zi - zj).abs() <= 1e-12 * self.reach() {
-            return;
-        }
-        let u_star = (ri - rj) / (zi - zj);
-        if u_star.abs() >= 1.0 {
-            return;
-        }
+        let (pi, pj) = (self.part(i), self.part(j));
         let k = self.mkin(y);
+        let mut u = k.e3[2].clamp(-1.0, 1.0);
+        for _ in 0..8 {
+            let ((fi, di, _), (fj, dj, _)) = (pi.profile(u), pj.profile(u));
+            let slope = pi.z() - pj.z() - di + dj;
+            if slope.abs() <= 1e-12 * self.reach() {
+                return;
+            }
+            let step = ((pi.z() - pj.z()) * u - fi + fj) / slope;
+            u -= step;
+            if u.is_nan() || u.abs() >= 1.0 {
+                return;
+            }
+            if step.abs() <= 1e-15 {
+                break;
+            }
+        }
         let axis = cross(EZ, k.e3);
         let s = dot(axis, axis).sqrt();
         if s <= 1e-12 {
             return;
         }
         let n = scale(1.0 / s, axis);
-        let delta = u_star.acos() - k.e3[2].clamp(-1.0, 1.0).acos();
+        let delta = u.acos() - k.e3[2].clamp(-1.0, 1.0).acos();
         let q = Quat::from_axis_angle(n, delta).hamilton(k.q).normalized();
         y[..4].copy_from_slice(&q.0);
         let (t0, r0, _) = self.energy_parts(y);

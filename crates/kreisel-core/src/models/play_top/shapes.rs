@@ -171,7 +171,7 @@ impl Shape {
 
     /// The part's centre's position along e3 from G.
     #[inline(always)]
-    fn z(&self) -> f64 {
+    pub(crate) fn z(&self) -> f64 {
         match *self {
             Shape::Sphere { z, .. } | Shape::Spheroid { z, .. } | Shape::Torus { z, .. } => z,
         }

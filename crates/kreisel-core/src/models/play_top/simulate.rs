@@ -15,17 +15,13 @@ use crate::simulate::{
 };
 use std::cell::Cell;
 
-/// One output row of a play-top run: the state, its contact mode, and the slip direction
-/// in force at zero slip speed.
+/// One output row of a play-top run: the state, and every part's contact mode and slip
+/// direction in force at zero slip speed (a one-sphere top's in part 0).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PlayRow {
     /// State (see [`DIM`]).
     pub y: [f64; DIM],
-    /// Contact mode.
-    pub mode: Mode,
-    /// Slip direction in force at zero slip speed.
-    pub dir: [f64; 3],
-    /// Every part's mode and slip direction (a one-sphere top's are `mode` and `dir`).
+    /// Every part's mode and slip direction.
     pub contacts: Contacts,
 }
 
@@ -36,12 +32,23 @@ impl PlayRow {
         let mut contacts = Contacts::NONE;
         contacts.mode[0] = mode;
         contacts.dir[0] = [dir[0], dir[1]];
-        PlayRow {
-            y,
-            mode,
-            dir,
-            contacts,
-        }
+        PlayRow { y, contacts }
+    }
+
+    /// The one mode of the whole top ([`Contacts::overall`]): a one-sphere top's own.
+    #[inline(always)]
+    pub fn mode(&self) -> Mode {
+        self.contacts.overall(MAX_PARTS)
+    }
+
+    /// The slip direction of the first touching part (of part 0 in flight).
+    #[inline(always)]
+    pub fn dir(&self) -> [f64; 3] {
+        let c = &self.contacts;
+        let first = (0..MAX_PARTS)
+            .find(|&i| c.mode[i] != Mode::Flight)
+            .unwrap_or(0);
+        [c.dir[first][0], c.dir[first][1], 0.0]
     }
 }
 
@@ -372,7 +379,7 @@ fn columns_with<const RES: bool>(top: &PlayTop, all: &[PlayRow]) -> PlayColumns 
     for start in (0..n).step_by(BLOCK) {
         let end = n.min(start + BLOCK);
         for (row, r) in rows.iter_mut().zip(&all[start..end]) {
-            let (y, mode, dir) = (&r.y, r.mode, r.dir);
+            let (y, mode, dir) = (&r.y, r.mode(), r.dir());
             *row = if classic {
                 let k = top.kin(y);
                 let (phi, theta, psi) = euler_from_matrix(k.r);
@@ -501,7 +508,7 @@ impl Accumulate<PlayRow> for PlayAcc<'_> {
         let last = self.last;
         PlaySummary {
             final_u: last.map_or(f64::NAN, |r| self.top.kin(&r.y).u),
-            final_mode: last.map_or(Mode::Flight, |r| r.mode),
+            final_mode: last.map_or(Mode::Flight, |r| r.mode()),
             inversion_time: info
                 .events
                 .iter()

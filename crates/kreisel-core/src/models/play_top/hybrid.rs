@@ -415,27 +415,71 @@ impl Hybrid for Multi<'_> {
                 self.after_impulse(y, &c, rtol)
             }
             MSwitch::SlipToRoll(i) => {
-                let eps = self.tolerance(y, rtol);
-                let mut want = c;
-                want.mode[i] = Mode::Roll;
-                let mut dy = [0.0; DIM];
-                let f = top.multi_dynamics(&want, y, &mut dy);
-                if top.stick_margin(&f, i) >= 0.0 && f.n[i] >= 0.0 {
-                    let mut target = [0.0; 4];
+                // Part i stops slipping. Every touching part whose sliding has stopped (within
+                // the tolerance) is tried sticking with it, jointly: a part that could not
+                // stick alone while another still slid may stick once both do. The impulse
+                // that stops the new sticking parts' remaining slips may stop another's: it
+                // is tried in turn.
+                // "Stopped": within the tolerance, or no faster than part i is as it stops
+                // (its located measure may exceed the tolerance by the location's error).
+                let eps = {
                     let k = top.mkin(y);
+                    let vp = top.parts.shape[i].point_velocity(k.v, k.w, k.e3);
+                    self.tolerance(y, rtol).max(top.slide_measure(vp, k.w[2])) * 1.01
+                };
+                let mut dy = [0.0; DIM];
+                for round in 0..n {
+                    let k = top.mkin(y);
+                    let mut want = c;
+                    for j in 0..n {
+                        let vp = top.parts.shape[j].point_velocity(k.v, k.w, k.e3);
+                        if c.mode[j] == Mode::Slip
+                            && ((round == 0 && j == i) || top.slide_measure(vp, k.w[2]) <= eps)
+                        {
+                            want.mode[j] = Mode::Roll;
+                        }
+                    }
+                    // A sticking part whose friction leaves its ellipse slides against it.
+                    for _ in 0..n {
+                        let f = top.multi_dynamics(&want, y, &mut dy);
+                        let Some(j) = (0..n)
+                            .filter(|&j| want.mode[j] == Mode::Roll && c.mode[j] != Mode::Roll)
+                            .min_by(|&p, &q| {
+                                top.stick_margin(&f, p).total_cmp(&top.stick_margin(&f, q))
+                            })
+                            .filter(|&j| top.stick_margin(&f, j) < 0.0 || f.n[j] < 0.0)
+                        else {
+                            break;
+                        };
+                        let t = (f.ft[j][0] * f.ft[j][0] + f.ft[j][1] * f.ft[j][1]).sqrt();
+                        if t > 0.0 {
+                            want.dir[j] = [-f.ft[j][0] / t, -f.ft[j][1] / t];
+                        }
+                        want.mode[j] = Mode::Slip;
+                    }
+                    let f = top.multi_dynamics(&want, y, &mut dy);
+                    let push = (0..n).all(|j| want.mode[j] == Mode::Flight || f.n[j] >= 0.0);
+                    let sticking = (0..n).fold(0u8, |acc, j| {
+                        acc | (u8::from(want.mode[j] == Mode::Roll && c.mode[j] != Mode::Roll) << j)
+                    });
+                    if !push || sticking == 0 {
+                        for j in 0..n {
+                            if want.mode[j] == Mode::Slip && c.mode[j] == Mode::Slip {
+                                c.dir[j] = want.dir[j];
+                            }
+                        }
+                        break;
+                    }
+                    // The remaining (tolerance-sized) slips of the new sticking parts are
+                    // stopped by an impulse that keeps every part's gap rate.
+                    let mut target = [0.0; 4];
                     for (j, t) in target.iter_mut().enumerate().take(n) {
                         *t = top.parts.shape[j].gap_rate(k.v[2], k.w, k.e3).max(0.0);
                     }
-                    let (yi, _) = top.multi_impact(y, 1 << i, target);
+                    let (yi, _) = top.multi_impact(y, sticking, target);
                     *y = yi;
                     c = want;
-                } else {
-                    let t = (f.ft[i][0] * f.ft[i][0] + f.ft[i][1] * f.ft[i][1]).sqrt();
-                    if t > 0.0 {
-                        c.dir[i] = [-f.ft[i][0] / t, -f.ft[i][1] / t];
-                    }
                 }
-                let _ = eps;
                 top.multi_project(&c, y);
                 MPhase {
                     contacts: c,
@@ -705,17 +749,26 @@ pub(crate) fn drive<H: Hybrid>(
         let Some(switch) = reason.filter(|_| !stopped && t < t_end) else {
             break;
         };
-        let before = h.row(&phase, &y).contacts.mask(top.parts.n);
+        let before = h.row(&phase, &y).contacts.mode;
         phase = h.apply(switch, &phase, &mut y, settings.rtol);
-        // Other parts that an impulse lifted off or put down at the same instant.
-        let after = h.row(&phase, &y).contacts.mask(top.parts.n);
+        // Other parts that the switch lifted off, put down, stuck or set sliding at the same
+        // instant (an impulse, or parts that stick jointly).
+        let after = h.row(&phase, &y).contacts.mode;
         let own = h.record(switch).1;
         for i in 0..top.parts.n {
-            let (was, is) = (before & (1 << i) != 0, after & (1 << i) != 0);
-            if was != is && Some(i) != own {
+            let name = match (before[i], after[i]) {
+                (Mode::Flight, Mode::Flight)
+                | (Mode::Slip, Mode::Slip)
+                | (Mode::Roll, Mode::Roll) => continue,
+                (Mode::Flight, _) => "touchdown",
+                (_, Mode::Flight) => "lift_off",
+                (Mode::Slip, Mode::Roll) => "slip_to_roll",
+                (Mode::Roll, Mode::Slip) => "roll_to_slip",
+            };
+            if Some(i) != own {
                 info.events.push(EventRecord {
                     index: None,
-                    name: if is { "touchdown" } else { "lift_off" }.into(),
+                    name: name.into(),
                     t,
                     part: Some(i),
                 });

@@ -130,6 +130,12 @@ struct System<const U: usize> {
     /// The unknowns and the matrix's diagonal ([`System::solve`]).
     x: [f64; U],
     diag: [f64; U],
+    /// Each unknown's weight in the norm a redundant system's solution minimises: 1 for a
+    /// force, 1/rbar^2 for a drilling torque (the friction ellipse's metric).
+    weight: [f64; U],
+    /// A redundant system's null space: `m` vectors (the solutions are `x + basis c`).
+    basis: [[f64; U]; U],
+    m: usize,
 }
 
 impl<const U: usize> System<U> {
@@ -146,6 +152,9 @@ impl<const U: usize> System<U> {
             dw: [ZERO; U],
             x: [0.0; U],
             diag: [0.0; U],
+            weight: [1.0; U],
+            basis: [[0.0; U]; U],
+            m: 0,
         }
     }
 
@@ -197,35 +206,91 @@ impl<const U: usize> System<U> {
             }
         }
         let mut b = self.rhs;
-        // Gaussian elimination with partial pivoting; a pivot that vanishes against the
-        // matrix's size is a redundant constraint, whose unknown is left at zero.
-        let mut skip = [false; U];
+        // Row echelon form by Gaussian elimination with partial pivoting. A column without a
+        // pivot (below 1e-13 of the matrix's size) belongs to a redundant constraint: two
+        // sticking parts fix more than the body's freedoms (a cone rolling on its tip and its
+        // rim), and the forces along the line between them are statically indeterminate.
+        let mut pivot_col = [usize::MAX; U];
+        let mut free = [false; U];
+        let mut rows = 0;
         for k in 0..n {
-            let p = (k..n)
+            let p = (rows..n)
                 .max_by(|&i, &j| a[i][k].abs().total_cmp(&a[j][k].abs()))
-                .unwrap_or(k);
-            a.swap(k, p);
-            b.swap(k, p);
-            if a[k][k].abs() <= 1e-13 * big {
-                skip[k] = true;
+                .unwrap_or(rows);
+            if rows == n || a[p][k].abs() <= 1e-13 * big {
+                free[k] = true;
                 continue;
             }
-            for i in k + 1..n {
-                let f = a[i][k] / a[k][k];
+            a.swap(rows, p);
+            b.swap(rows, p);
+            for i in rows + 1..n {
+                let f = a[i][k] / a[rows][k];
                 if f != 0.0 {
                     for j in k..n {
-                        a[i][j] -= f * a[k][j];
+                        a[i][j] -= f * a[rows][j];
                     }
-                    b[i] -= f * b[k];
+                    b[i] -= f * b[rows];
                 }
             }
+            pivot_col[rows] = k;
+            rows += 1;
         }
-        for k in (0..n).rev() {
-            if skip[k] {
-                continue;
+        // The solution with the free unknowns at zero, by back substitution.
+        let back = |x: &mut [f64; U], b: &[f64; U]| {
+            for r in (0..rows).rev() {
+                let k = pivot_col[r];
+                let s: f64 = (k + 1..n).map(|j| a[r][j] * x[j]).sum();
+                x[k] = (b[r] - s) / a[r][k];
             }
-            let s: f64 = (k + 1..n).map(|j| a[k][j] * x[j]).sum();
-            x[k] = (b[k] - s) / a[k][k];
+        };
+        *x = [0.0; U];
+        back(x, &b);
+        if rows == n {
+            return;
+        }
+        // Redundant: of all the solutions, the one of least sum_i w_i x_i^2 (the weights
+        // make a drilling torque count as the force it takes of the friction ellipse). The
+        // null space's basis: one vector per free unknown (it at 1, the other free ones at
+        // 0, the pivots from the homogeneous rows).
+        let basis = &mut self.basis;
+        let mut m = 0;
+        for f in 0..n {
+            if free[f] {
+                basis[m][f] = 1.0;
+                back(&mut basis[m], &[0.0; U]);
+                m += 1;
+            }
+        }
+        self.m = m;
+        let w = &self.weight;
+        // (N^T W N) c = -N^T W x, then x += N c.
+        let mut g = [[0.0; U]; U];
+        let mut h = [0.0; U];
+        for i in 0..m {
+            for j in 0..m {
+                g[i][j] = (0..n).map(|r| basis[i][r] * w[r] * basis[j][r]).sum();
+            }
+            h[i] = -(0..n).map(|r| basis[i][r] * w[r] * x[r]).sum::<f64>();
+        }
+        // A small symmetric positive definite system: elimination without pivoting.
+        for k in 0..m {
+            for i in k + 1..m {
+                let f = g[i][k] / g[k][k];
+                for j in k..m {
+                    g[i][j] -= f * g[k][j];
+                }
+                h[i] -= f * h[k];
+            }
+        }
+        let mut c = [0.0; U];
+        for k in (0..m).rev() {
+            let s: f64 = (k + 1..m).map(|j| g[k][j] * c[j]).sum();
+            c[k] = (h[k] - s) / g[k][k];
+        }
+        for i in 0..m {
+            for r in 0..n {
+                x[r] += c[i] * basis[i][r];
+            }
         }
     }
 }
@@ -355,6 +420,9 @@ impl PlayTop {
         self.contact_system(c, &k, res_n, vd0, wd0, &mut sys, &mut what);
         sys.responses(|f, t| self.response(&k, f, t));
         sys.solve();
+        if sys.m > 0 {
+            self.most_margin(&mut sys, &what);
+        }
         let (x, diag, dvs, dws) = (&sys.x, &sys.diag, &sys.dv, &sys.dw);
         let mut out = Forces::default();
         let (mut vd, mut wd) = (vd0, wd0);
@@ -464,10 +532,124 @@ impl PlayTop {
                     }
                     if contensou {
                         what[sys.n] = Unknown::StickM(i);
+                        let rb = self.friction.rbar();
+                        sys.weight[sys.n] = 1.0 / (rb * rb);
                         sys.push(ZERO, EZ, ZERO, EZ, -free(ZERO, EZ));
                     }
                 }
             }
+        }
+    }
+
+    /// A redundant system of sticking parts (two parts fix more than the body's freedoms,
+    /// and the forces along the line between them are statically indeterminate): of its
+    /// solutions, which all move the body alike, the one whose smallest friction margin
+    /// ([`Self::stick_margin`]) is largest, so the parts stick wherever some split of the
+    /// forces lets them. The margins are concave in the forces, their minimum too: a direct
+    /// search (Nelder and Mead) over the null space from the least-norm solution finds it.
+    fn most_margin<const U: usize>(&self, sys: &mut System<U>, what: &[Unknown; U]) {
+        let n = sys.n;
+        let mu = self.friction.mu();
+        let rb = self.friction.rbar();
+        let worst = |x: &[f64; U]| -> f64 {
+            let mut nf = [0.0; MAX_PARTS];
+            let mut t = [[0.0; 3]; MAX_PARTS];
+            let mut sticks = [false; MAX_PARTS];
+            for j in 0..n {
+                match what[j] {
+                    Unknown::StickN(i) => {
+                        nf[i] = x[j];
+                        sticks[i] = true;
+                    }
+                    Unknown::StickT(i, axis) => t[i][axis] = x[j],
+                    Unknown::StickM(i) => t[i][2] = x[j] / rb,
+                    Unknown::SlipN { .. } => {}
+                }
+            }
+            (0..MAX_PARTS)
+                .filter(|&i| sticks[i])
+                .map(|i| mu * nf[i] - dot(t[i], t[i]).sqrt())
+                .fold(f64::INFINITY, f64::min)
+        };
+        let m = sys.m;
+        let x0 = sys.x;
+        let at = |c: &[f64; U]| -> [f64; U] {
+            let mut x = x0;
+            for (i, ci) in c.iter().enumerate().take(m) {
+                for r in 0..n {
+                    x[r] += ci * sys.basis[i][r];
+                }
+            }
+            x
+        };
+        let start = worst(&x0);
+        if !start.is_finite() {
+            return;
+        }
+        // The simplex: the least-norm point and a step along each null vector, a tenth of
+        // the forces' size in the weighted norm.
+        let size = (0..n)
+            .map(|r| sys.weight[r] * x0[r] * x0[r])
+            .sum::<f64>()
+            .sqrt()
+            .max(f64::MIN_POSITIVE);
+        let mut pts = [[0.0; U]; U];
+        let mut val = [0.0; U];
+        val[0] = -start;
+        for i in 0..m {
+            let len = (0..n)
+                .map(|r| sys.weight[r] * sys.basis[i][r] * sys.basis[i][r])
+                .sum::<f64>()
+                .sqrt();
+            pts[i + 1][i] = 0.1 * size / len.max(f64::MIN_POSITIVE);
+            val[i + 1] = -worst(&at(&pts[i + 1]));
+        }
+        let k = m + 1;
+        for _ in 0..200 * m {
+            // order: best (least -margin) first
+            let mut idx: [usize; U] = core::array::from_fn(|i| i);
+            idx[..k].sort_by(|&a, &b| val[a].total_cmp(&val[b]));
+            let (best, worst_i, second) = (idx[0], idx[k - 1], idx[k - 2]);
+            if val[worst_i] - val[best] <= 1e-13 * size {
+                break;
+            }
+            let mut cen = [0.0; U];
+            for &p in &idx[..k - 1] {
+                for d in 0..m {
+                    cen[d] += pts[p][d] / m as f64;
+                }
+            }
+            let towards = |f: f64| -> [f64; U] {
+                core::array::from_fn(|d| cen[d] + f * (pts[worst_i][d] - cen[d]))
+            };
+            let r = towards(-1.0);
+            let fr = -worst(&at(&r));
+            if fr < val[best] {
+                let e = towards(-2.0);
+                let fe = -worst(&at(&e));
+                (pts[worst_i], val[worst_i]) = if fe < fr { (e, fe) } else { (r, fr) };
+            } else if fr < val[second] {
+                (pts[worst_i], val[worst_i]) = (r, fr);
+            } else {
+                let cpt = towards(0.5);
+                let fc = -worst(&at(&cpt));
+                if fc < val[worst_i] {
+                    (pts[worst_i], val[worst_i]) = (cpt, fc);
+                } else {
+                    for &p in &idx[1..k] {
+                        for d in 0..m {
+                            pts[p][d] = pts[best][d] + 0.5 * (pts[p][d] - pts[best][d]);
+                        }
+                        val[p] = -worst(&at(&pts[p]));
+                    }
+                }
+            }
+        }
+        let best = (0..k)
+            .min_by(|&a, &b| val[a].total_cmp(&val[b]))
+            .unwrap_or(0);
+        if val[best] < -start {
+            sys.x = at(&pts[best]);
         }
     }
 

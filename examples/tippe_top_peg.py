@@ -16,7 +16,7 @@ seed's critical moment) and ends on its ball. Writes tippe_top_peg.png.
 """
 
 import numpy as np
-from _common import out_dir, pyplot
+from _common import out_dir, parts_panels, pyplot
 
 import kreisel
 from kreisel.shapes import Sphere
@@ -31,33 +31,13 @@ top = kreisel.PlayTop(
 )  # fmt: skip
 run = kreisel.simulate(top, top.state(theta=np.pi - 0.1, psi_dot=180.0), 8.0,
                        t_eval=np.linspace(0.0, 8.0, 4001))  # fmt: skip
-t = run.t
-touch = run.part_in_contact
 # the spin at which standing on the peg stops being stable: J_R(1) of the peg as a tip sphere
 threshold = kreisel.PlayTop(M, A, C, s=0.016, rho=0.005).J_R(1.0) / (C * (0.016 + 0.005))
 
 fig, axes = plt.subplots(4, 1, figsize=(8, 9), sharex=True)
 colours = {(True, False): "#f2d7b6", (True, True): "#c9b3e6", (False, True): "#b6d7f2"}
-for ax in axes:
-    for (ball, peg), colour in colours.items():
-        on = (touch[:, 0] == ball) & (touch[:, 1] == peg)
-        ax.fill_between(t, 0, 1, where=on, color=colour, transform=ax.get_xaxis_transform(),
-                        linewidth=0)  # fmt: skip
-axes[0].plot(t, run.u, color="k")
-axes[0].set_ylabel("u = cos(theta)")
-axes[1].plot(t, run.part_normal_force[:, 0], label="ball")
-axes[1].plot(t, run.part_normal_force[:, 1], label="peg")
-axes[1].axhline(M * 9.81, color="grey", lw=0.6)
-axes[1].set_ylabel("normal force (N)")
-axes[1].legend(loc="upper right")
-axes[2].plot(t, np.abs(run.omega[:, 2]), color="k")
+parts_panels(axes, run, colours, ["ball", "peg"], M * 9.81)
 axes[2].axhline(threshold, color="k", ls=":", lw=0.8)
-axes[2].set_ylabel("|omega_3| (rad/s)")
-axes[3].plot(t, run.energy * 1e3, color="k", label="E")
-axes[3].plot(t, (run.energy + run.dissipated) * 1e3, color="grey", ls="--", label="E + dissipated")
-axes[3].set_ylabel("energy (mJ)")
-axes[3].set_xlabel("t (s)")
-axes[3].legend(loc="upper right")
 fig.suptitle("tippe top with its peg: ball (tan), both (violet), peg (blue) on the floor")
 fig.tight_layout()
 fig.savefig(out / "tippe_top_peg.png", dpi=100)

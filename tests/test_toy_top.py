@@ -50,12 +50,14 @@ def life():
 
 
 def test_the_sleeping_threshold_is_above_the_spin(life):
-    """Sanity of the set-up: C^2 w^2 < 4 A_tip m g l (Lagrange top about the tip's centre)."""
+    """The spins of this life and of the preset are below the sleeping threshold,
+    C^2 w^2 < 4 A_tip m g l (a Lagrange top about the tip's centre)."""
     top, _ = life
     tip = top.shape[0]
-    l = -tip.z
-    a_tip = top.A + top.m * l * l
-    assert 60.0 < 2 * np.sqrt(a_tip * top.m * 9.81 * l) / top.C
+    arm = -tip.z
+    a_tip = top.A + top.m * arm * arm
+    threshold = 2 * np.sqrt(a_tip * top.m * 9.81 * arm) / top.C
+    assert 60.0 < 120.0 < threshold  # this life and the preset toy-top's
 
 
 def test_it_falls_on_its_shoulder_rolls_and_stops(life):
@@ -124,3 +126,21 @@ def test_the_story_does_not_depend_on_the_tolerance(life):
         ta = max(e.t for e in loose.events if e.name == name)
         tb = max(e.t for e in run.events if e.name == name)
         assert ta == pytest.approx(tb, abs=1e-6), name
+
+
+def test_nothing_drawn_enters_the_floor(life):
+    """The animation draws the toy top as the union of its parts with a cone from the tip to
+    the shoulder (inside the parts' convex hull): every vertex at every computed state of its
+    life, lying on its side included, is above the floor."""
+    from kreisel import animate
+
+    top, run = life
+    shape = animate.shape_of(top)
+    verts, _ = animate._mesh(shape, 36)
+    frames = animate._at(run, top, run.t[::3])
+    world = np.einsum("fij,abj->fabi", frames.rotation, verts + shape.centre)
+    assert (world + frames.origin[:, None, None, :])[..., 2].min() > -1e-9
+    # and it is drawn as a cone: the radius grows from the tip to the shoulder
+    tip, shoulder = top.shape[0].z + top.s, top.shape[1].z + top.s
+    cone = (shape.z > tip + 0.1 * (shoulder - tip)) & (shape.z < shoulder - 0.1 * (shoulder - tip))
+    assert np.all(np.diff(shape.r[cone]) > 0)

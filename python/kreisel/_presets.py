@@ -200,10 +200,11 @@ PRESETS = {
         ),  # fmt: skip
         Preset(
             "toy-top",
-            "toy top (kreisel.bodies.toy_top) below its sleeping threshold: falls on its shoulder",
-            _body_table(bodies.toy_top()),
-            {"theta": 0.3, "psi_dot": 60.0},
-            {"t_end": 3.0, "rtol": 1e-8},
+            "toy top (kreisel.bodies.toy_top) below its sleeping threshold: precesses, falls "
+            "on its shoulder, rolls to rest",
+            _body_table(bodies.toy_top(rolling_resistance=1e-4)),
+            {"theta": 0.3, "psi_dot": 120.0},
+            {"t_end": 6.0, "rtol": 1e-8, "samples": 3001},
         ),
         Preset(
             "rate-gyro",

@@ -25,7 +25,8 @@ def compute(problem: Problem):
     t_eval = None if s.samples is None else np.linspace(0.0, s.t_end, s.samples)
     if s.exact:
         return problem.model.exact(problem.state, t_eval)
-    evs = [events.inversion(0.9)] if problem.kind == "play" else None
+    # a play top's run ends when it has stopped (the kinetic energy at 1e-12 of its start)
+    evs = [events.inversion(0.9), events.rest()] if problem.kind == "play" else None
     return simulate(
         problem.model, problem.state, s.t_end, method=s.method, rtol=s.rtol, atol=s.atol,
         dt=s.dt, t_eval=t_eval, events=evs,

@@ -199,18 +199,26 @@ def _parts_shape(model) -> Shape:
         ri = np.where(inside, radius_at(zs), 0.0)
         better = inside & (ri > r)
         r[better], owner[better] = ri[better], i
-    # necks between parts that do not meet
+    # necks between parts that do not meet; every neck lies in the parts' convex hull, which
+    # is above the floor wherever the parts are
     order = sorted(range(len(profiles)), key=lambda i: profiles[i][0])
     for a, b in zip(order, order[1:]):
         pa, pb = model.shape[a], model.shape[b]
-        if pa.kind == "torus" and pb.kind == "torus":
-            neck = min(pa.major, pb.major)
+        (za, _, at_a), (zb, _, at_b) = profiles[a], profiles[b]
+        ra, rb = float(at_a(za)), float(at_b(zb))
+        between = (zs > za) & (zs < zb)
+        if {pa.kind, pb.kind} == {"torus"}:
+            neck = np.full(len(zs), min(pa.major, pb.major))
+        elif "torus" in (pa.kind, pb.kind) and 0 in (a, b):
+            # the tip and a rim: the cone between them (a toy top's body)
+            neck = ra + (rb - ra) * (zs - za) / (zb - za)
+        elif "torus" in (pa.kind, pb.kind):
+            neck = np.full(len(zs), min(ra, rb))  # a handle on a rim's face
         else:
-            ra, rb = (float(p[2](p[0])) for p in (profiles[a], profiles[b]))
-            neck = 0.5 * min(ra, rb) if min(ra, rb) > 0 else 0.05 * max(ra, rb, 1e-3)
-        between = (zs > profiles[a][0]) & (zs < profiles[b][0])
+            neck = np.full(len(zs), 0.5 * min(ra, rb) if min(ra, rb) > 0
+                           else 0.05 * max(ra, rb, 1e-3))  # fmt: skip
         thin = between & (r < neck)
-        r[thin], owner[thin] = neck, b
+        r[thin], owner[thin] = neck[thin], b
     r[0] = r[-1] = 0.0
     tip = owner[:-1] != 0
     first = profiles[0][0]

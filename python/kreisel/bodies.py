@@ -45,7 +45,8 @@ def egg(
     the axis and ``axial`` along it, m; ``mass`` kg): ``C = 2 m a^2 / 5`` about the axis and
     ``A = m (a^2 + b^2) / 5`` across it, its one part ``Spheroid(a, b, 0, "shell")`` centred at
     the centre of mass. Friction defaults to Coulomb-Contensou (mu 0.3 over a 0.5 mm patch);
-    other keywords go to :class:`~kreisel.PlayTop`.
+    other keywords go to :class:`~kreisel.PlayTop`. Spun on its side it rises above the spin
+    :func:`egg_rising_thresholds` gives.
 
     Examples
     --------

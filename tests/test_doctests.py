@@ -33,6 +33,7 @@ MODULES = [
     ("kreisel._sweep.store", False),
     ("kreisel.events", True),
     ("kreisel.special", True),
+    ("kreisel.bodies", True),
     ("kreisel.quantum", True),
     ("kreisel.plot", False),
     ("kreisel.animate", False),

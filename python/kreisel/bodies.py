@@ -7,14 +7,21 @@ parts (:mod:`kreisel.shapes`) are the body's own surfaces.
 from __future__ import annotations
 
 import math
-from typing import Any, Union
+from typing import Any, NamedTuple, Union
 
 from ._errors import ParameterError
 from ._play import Coulomb, CoulombContensou, Frictionless, PlayTop, Viscous
 from ._validate import real
 from .shapes import Part, Sphere, Spheroid, Torus
 
-__all__ = ["disk", "egg", "toy_top"]
+__all__ = [
+    "EggThresholds",
+    "disk",
+    "egg",
+    "egg_rising_thresholds",
+    "egg_settled_inclination",
+    "toy_top",
+]
 
 Law = Union[Coulomb, Viscous, Frictionless, CoulombContensou]
 
@@ -38,7 +45,8 @@ def egg(
     the axis and ``axial`` along it, m; ``mass`` kg): ``C = 2 m a^2 / 5`` about the axis and
     ``A = m (a^2 + b^2) / 5`` across it, its one part ``Spheroid(a, b, 0, "shell")`` centred at
     the centre of mass. Friction defaults to Coulomb-Contensou (mu 0.3 over a 0.5 mm patch);
-    other keywords go to :class:`~kreisel.PlayTop`.
+    other keywords go to :class:`~kreisel.PlayTop`. Spun on its side it rises above the spin
+    :func:`egg_rising_thresholds` gives.
 
     Examples
     --------
@@ -71,7 +79,7 @@ def disk(
     >>> from kreisel import bodies
     >>> d = bodies.disk(radius=0.0375, thickness=0.0125, mass=0.4)
     >>> round(d.C, 9), round(d.A, 9), d.part_names
-    (0.000281, 0.000146, ('upper_rim', 'lower_rim'))
+    (0.00028125, 0.000145833, ('upper_rim', 'lower_rim'))
     """
     a, h = _positive("radius", radius), _positive("thickness", thickness)
     m = _positive("mass", mass)
@@ -134,3 +142,122 @@ def toy_top(
         Sphere(r_h, big_h + l_h - r_h - z_g, "handle"),
     ]
     return PlayTop(m, a, c, shape=parts, friction=friction, **kwargs)
+
+
+class EggThresholds(NamedTuple):
+    """The spin rates (rad/s, about the vertical, of an egg lying on its side) at which a
+    uniform solid prolate spheroid starts to rise and rises all the way onto its end: by the
+    steady no-slip motions (``rise``, ``stand``; derived in the guide's section on the egg)
+    and by Moffatt and Shimomura's gyroscopic balance (``balance_rise``, ``balance_stand``, a
+    fast-spin approximation that lies about 15 % low for an egg-shaped 3 : 4 spheroid).
+
+    Examples
+    --------
+    >>> from kreisel import bodies
+    >>> bodies.egg_rising_thresholds()._fields
+    ('rise', 'stand', 'balance_rise', 'balance_stand')
+    """
+
+    rise: float
+    stand: float
+    balance_rise: float
+    balance_stand: float
+
+
+def _prolate(equatorial: object, axial: object, g: object) -> tuple[float, float, float]:
+    a, b = _positive("equatorial", equatorial), _positive("axial", axial)
+    if not b > a:
+        raise ParameterError(
+            f"axial = {b!r} is not allowed with equatorial = {a!r}: a rising egg is a prolate "
+            "spheroid, axial > equatorial"
+        )
+    gg = real("g", g)
+    if not gg > 0:
+        raise ParameterError(f"g = {gg!r} is not allowed: it must be > 0 (m/s^2)")
+    return a, b, gg
+
+
+def _steady_spin(a: float, b: float, g: float, u: float) -> float:
+    """J / (A a) of the steady no-slip motion of a uniform prolate spheroid at u = cos(theta)
+    (G at rest, omega parallel to GP): the spin about the vertical of the lying egg with the
+    same Jellett's integral. Omega^2 = 5 g / h; J from L = A omega + (C - A) n e3."""
+    d = b * b - a * a
+    h = math.sqrt(a * a + d * u * u)
+    big_omega = math.sqrt(5 * g / h)
+    c_over_a = 2 * a * a / (a * a + b * b)
+    # |a^2 ez + d u e3|^2 from A omega . (G - P), and (C - A) n b^2 u from the spin part
+    square = a**4 + 2 * a * a * d * u * u + d * d * u * u
+    return big_omega * (square + (c_over_a - 1) * b**4 * u * u) / (a**3 * h)
+
+
+def egg_rising_thresholds(
+    equatorial: float = 0.0225, axial: float = 0.03, g: float = 9.81
+) -> EggThresholds:
+    """The spin rates (rad/s) at which a uniform solid prolate spheroid (semi-axes
+    ``equatorial`` a < ``axial`` b, m; the body of :func:`egg`; ``g`` m/s^2) spun about the
+    vertical while lying on its side, G at rest, rises part way and all the way onto its end.
+    The mass drops out. With the friction at the contact keeping Jellett's integral (a viscous
+    law nearly does; Coulomb-Contensou's drilling torque wears it away, and the egg falls
+    back), the egg ends on the steady motion of its Jellett's integral J = A Omega a:
+
+    - steady no-slip motions (derived in the guide, checked in ``tests/test_egg.py``): G at
+      rest, omega parallel to GP, precession ``Omega^2 = m g a^2 (b^2 - a^2) / (h (C b^2 - A
+      a^2))`` (``= 5 g / h`` uniform) at any inclination, h the height of G. They branch off
+      the lying spin at ``rise^2 = m g a (b^2 - a^2) / (C b^2 - A a^2) = 5 g / a`` and reach
+      the end at ``stand = 2 b^3 sqrt(5 g / b) / (a (a^2 + b^2))`` (J of the standing egg
+      ``C b w`` with ``w = (b/a)^2 sqrt(5 g / b)``, over ``A a``);
+    - gyroscopic balance (Moffatt & Shimomura, Nature 416 (2002) 385: ``C n = A Omega
+      cos(theta)``, L vertical, J = A Omega h kept; the energy at fixed J, ``E = m g h + J^2 (C
+      sin^2 + A cos^2) / (2 A C h^2)``, falls towards the end): ``balance_rise^2 = m g a C (b^2 -
+      a^2) / (A (C b^2 - A a^2)) = 2 m g a / A`` (uniform), which is ``(C/A) rise^2``, and
+      ``balance_stand = balance_rise (b/a)^(3/2)`` (the minimum of E at ``h = a
+      (Omega/balance_rise)^(2/3)`` reaches the end). These formulas are derived here from
+      their assumptions; the fast-spin approximation misses the threshold by ``sqrt(A/C)``
+      (1.18 for the default egg), which the simulations confirm.
+
+    Examples
+    --------
+    >>> from kreisel import bodies
+    >>> [round(w, 2) for w in bodies.egg_rising_thresholds()]
+    [46.69, 69.01, 39.62, 61.0]
+    >>> bodies.egg_rising_thresholds(0.03, 0.03)
+    Traceback (most recent call last):
+    ...
+    kreisel._errors.ParameterError: axial = 0.03 is not allowed with equatorial = 0.03: ...
+    """
+    a, b, gg = _prolate(equatorial, axial, g)
+    balance = math.sqrt(10 * gg * a / (a * a + b * b))
+    return EggThresholds(
+        rise=_steady_spin(a, b, gg, 0.0),
+        stand=_steady_spin(a, b, gg, 1.0),
+        balance_rise=balance,
+        balance_stand=balance * (b / a) ** 1.5,
+    )
+
+
+def egg_settled_inclination(
+    spin: float, equatorial: float = 0.0225, axial: float = 0.03, g: float = 9.81
+) -> float:
+    """|u| = |cos(theta)| of the steady no-slip motion an egg (a uniform solid prolate
+    spheroid, as in :func:`egg_rising_thresholds`) spun at ``spin`` rad/s about the vertical
+    on its side settles on, if Jellett's integral J = A spin a is kept: 0 below
+    ``rise``, 1 above ``stand``, between them the root of J(u) = J (J(u) rises with u).
+    For a run whose J drifted, give ``spin = J / (A a)``.
+
+    Examples
+    --------
+    >>> from kreisel import bodies
+    >>> round(bodies.egg_settled_inclination(52.0), 4), bodies.egg_settled_inclination(40.0)
+    (0.4227, 0.0)
+    """
+    w = abs(real("spin", spin))
+    a, b, gg = _prolate(equatorial, axial, g)
+    if w <= _steady_spin(a, b, gg, 0.0):
+        return 0.0
+    if w >= _steady_spin(a, b, gg, 1.0):
+        return 1.0
+    lo, hi = 0.0, 1.0
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if _steady_spin(a, b, gg, mid) < w else (lo, mid)
+    return 0.5 * (lo + hi)

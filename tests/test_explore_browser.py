@@ -253,3 +253,31 @@ def test_the_tippe_preset_with_its_peg_turns_over_onto_the_peg(browser, server):
     parts = browser.execute_script("return window.explore.run.body.parts.map((p) => p.name)")
     assert {"ball", "peg"} <= set(parts)
     open_page(browser, server.url + BALL)  # as the other tests expect it
+
+
+def test_the_toy_top_preset_lives_its_life_to_rest(browser, server):
+    """The toy-top preset (kreisel.bodies.toy_top: tip, shoulder ring, handle): the page runs
+    it to the event rest, lists kreisel's events (the shoulder's touchdown, both parts
+    sticking, rest) at kreisel.simulate's times, ends rolling at the tilt its tip and shoulder
+    fix, and draws its three parts."""
+    open_page(browser, server.url + "?preset=toy-top")
+    problem = from_tables(preset("toy-top"))
+    s = problem.settings
+    evs = [kreisel.events.inversion(0.9), kreisel.events.rest()]
+    traj = kreisel.simulate(problem.model, problem.state, s.t_end, rtol=s.rtol, events=evs)
+    want = [(e.name, e.part, round(e.t, 3)) for e in traj.events]
+    assert want[0][:2] == ("touchdown", "shoulder") and want[-1][:2] == ("rest", None)
+    got = browser.execute_script(
+        "return window.explore.run.events.map((e) => [e.name, e.part, e.t])"
+    )
+    assert [(n, p, round(t, 3)) for n, p, t in got] == want
+    shown = text(browser, "events")
+    assert (
+        f"touchdown shoulder {want[0][2]:.3f} s" in shown and f"rest {want[-1][2]:.3f} s" in shown
+    )
+    seek(browser, want[-1][2])
+    assert text(browser, "mode-now") == "roll"
+    assert float(text(browser, "u-now")) == pytest.approx(traj.u[-1], abs=1e-4)
+    parts = browser.execute_script("return window.explore.run.body.parts.map((p) => p.name)")
+    assert {"tip", "shoulder", "handle"} <= set(parts)
+    open_page(browser, server.url + BALL)  # as the other tests expect it

@@ -211,7 +211,8 @@ def run(tables: dict) -> dict:
     u = traj.u if "u" in traj.columns else np.cos(traj.theta)
     series: dict[str, list] = {"u": _column(u)}
     evs = list(getattr(traj, "events", None) or [])
-    out["events"] = [{"name": e.name, "t": float(e.t)} for e in evs[:1000]]
+    out["events"] = [{"name": e.name, "t": float(e.t), "part": getattr(e, "part", None)}
+                     for e in evs[:1000]]  # fmt: skip
     if p.kind == "play":
         modes = list(names()["modes"])
         out["modes"] = modes

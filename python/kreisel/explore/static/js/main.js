@@ -146,6 +146,16 @@ state.charts = charts;
 const atlas = new Atlas($('atlas-plane'), $('jr'), $('jr-caption'), (alpha, gamma) => pickAlphaGamma(alpha, gamma));
 const sweepMap = new SweepMap($('sweep-map'), (index) => openCell(index));
 
+// The run's events in one line: "touchdown shoulder 2.246 s, ..., rest 4.017 s"; a long
+// list keeps its first eight and its last.
+function eventsText(events) {
+  if (!events || events.length === 0) return 'none';
+  const one = (e) => `${e.name}${e.part ? ' ' + e.part : ''} ${e.t.toFixed(3)} s`;
+  const shown = events.length > 9 ? [...events.slice(0, 8).map(one), '...', one(events[events.length - 1])]
+    : events.map(one);
+  return shown.join(', ');
+}
+
 function status(text) {
   $('status').textContent = text;
 }
@@ -168,6 +178,7 @@ async function run(tables) {
   $('top-repr').textContent = `${r.top}  ${r.state}`;
   $('inversion-time').textContent = r.kind === 'play'
     ? (r.inversion_time === null ? 'none' : `${r.inversion_time} s`) : 'n/a';
+  $('events').textContent = eventsText(r.events);
   $('elapsed').textContent = `${(1000 * r.elapsed).toFixed(1)} ms`;
   $('toml').textContent = r.toml;
   $('slider').max = String(r.t[r.t.length - 1]);

@@ -144,3 +144,22 @@ def test_nothing_drawn_enters_the_floor(life):
     tip, shoulder = top.shape[0].z + top.s, top.shape[1].z + top.s
     cone = (shape.z > tip + 0.1 * (shoulder - tip)) & (shape.z < shoulder - 0.1 * (shoulder - tip))
     assert np.all(np.diff(shape.r[cone]) > 0)
+
+
+def test_an_egg_with_rolling_resistance_comes_to_rest_on_its_side():
+    """The default egg (Coulomb-Contensou friction) spun on its side at 80 rad/s with rolling
+    resistance c = 0.1 mm: the drilling friction drains its spin, it sinks back and ends at
+    rest (the event "rest", status "event") lying on its side. A rest off the lying
+    equilibrium is held by the rolling resistance alone: the gravity torque about the contact,
+    m g (b^2 - a^2) |u| / a for small u (the contact's offset from below G, PHYSICS 4.1), is at
+    most c m g, so |u| <= c a / (b^2 - a^2). Sticking over a patch ends the drilling too (a
+    drilling rate left below the tolerance would spin on for ever)."""
+    egg = bodies.egg(rolling_resistance=1e-4)
+    a, b = egg.shape[0].equatorial, egg.shape[0].axial
+    run = kreisel.simulate(egg, egg.state(theta=np.pi / 2 - 0.1, phi_dot=80.0), 60.0,
+                           rtol=1e-8, events=[events.rest()])  # fmt: skip
+    assert run.status == "event" and run.events[-1].name == "rest"
+    assert abs(run.u[-1]) <= 1e-4 * a / (b * b - a * a)
+    assert np.linalg.norm(run.omega[-1]) < 1e-5
+    assert np.diff(run.energy).max() <= 1e-12 * run.energy[0]
+    np.testing.assert_allclose(run.energy + run.dissipated, run.energy[0], rtol=1e-7)

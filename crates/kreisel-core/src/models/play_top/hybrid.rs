@@ -750,6 +750,11 @@ pub(crate) fn drive<H: Hybrid>(
             break;
         };
         let before = h.row(&phase, &y).contacts.mode;
+        let kinetic = |y: &[f64; DIM]| {
+            let (tr, rot, _) = top.energy_parts(y);
+            tr + rot
+        };
+        let ke_before = kinetic(&y);
         phase = h.apply(switch, &phase, &mut y, settings.rtol);
         // Other parts that the switch lifted off, put down, stuck or set sliding at the same
         // instant (an impulse, or parts that stick jointly).
@@ -777,6 +782,25 @@ pub(crate) fn drive<H: Hybrid>(
         // The state after the switch at the same time (impacts make it jump).
         if settings.t_eval.is_none() {
             sink(t, &h.row(&phase, &y));
+        }
+        // A switch that stops the top (the impulse or the projection that ends its last
+        // slip or drilling) is where it comes to rest: no later crossing would show it.
+        let level = 1e-12 * ke0;
+        if ke_before >= level && kinetic(&y) < level {
+            for (i, e) in settings.events.iter().enumerate() {
+                if matches!(e.kind, EventKind::Rest) {
+                    info.events.push(EventRecord {
+                        index: Some(i),
+                        name: e.name.clone().into(),
+                        t,
+                        part: None,
+                    });
+                    stopped |= e.terminal;
+                }
+            }
+            if stopped {
+                break;
+            }
         }
         if info.events.len() > MAX_SWITCHES {
             return Err(KreiselError::Numerical(format!(

@@ -834,12 +834,44 @@ impl PlayTop {
         if count == 0.0 {
             return;
         }
+        // The velocity's correction never creates energy: the kinetic energy it would add is
+        // taken back by scaling the velocities (the constraints are homogeneous in them); the
+        // kinetic energy it removes is counted as dissipated.
+        let ke = |y: &[f64; DIM]| {
+            let (tr, rot, _) = self.energy_parts(y);
+            tr + rot
+        };
+        let before = ke(y);
+        let mut k = k;
+        if stick.is_some() && self.friction.rbar() > 0.0 && k.w[2] != 0.0 {
+            // Sticking over a patch neither slides nor drills (D = 0): the drilling rate left
+            // at the switch (below the tolerance over rbar) and its drift are removed.
+            let wb = k.to_body([k.w[0], k.w[1], 0.0]);
+            y[4..7].copy_from_slice(&wb);
+            k = self.mkin(y);
+            vz = (0..self.parts.n)
+                .filter(|&i| c.mode[i] != Mode::Flight)
+                .map(|i| -self.part(i).gap_rate(0.0, k.w, k.e3))
+                .sum();
+        }
         y[9] = h / count;
         y[12] = vz / count;
         if let Some(i) = stick {
             let v = scale(-1.0, cross(k.w, self.part(i).arm(k.e3)));
             y[10] = v[0];
             y[11] = v[1];
+        }
+        let after = ke(y);
+        if after > before && after > 0.0 {
+            let f = (before / after).sqrt();
+            for x in &mut y[4..7] {
+                *x *= f;
+            }
+            for x in &mut y[10..13] {
+                *x *= f;
+            }
+        } else {
+            y[13] += before - after;
         }
     }
 
@@ -947,6 +979,7 @@ impl PlayTop {
             (free, slide)
         });
         let tol_v = 1e-12 * self.multi_speed_scale(y);
+        let rb = if mu > 0.0 { self.friction.rbar() } else { 0.0 };
         for combo in combos {
             if mu == 0.0 && combo.contains(&0) {
                 continue;
@@ -972,6 +1005,12 @@ impl PlayTop {
                             let jw = cross(arm, e);
                             sys.push(e, jw, e, jw, goal - dot(e, v));
                         }
+                        if rb > 0.0 {
+                            // Sticking over a patch stops the drilling too (D = 0).
+                            owner[sys.n] = (i, 4);
+                            sys.weight[sys.n] = 1.0 / (rb * rb);
+                            sys.push(ZERO, EZ, ZERO, EZ, -k.w[2]);
+                        }
                     }
                     1 => {
                         let sp = (v[0] * v[0] + v[1] * v[1]).sqrt();
@@ -990,21 +1029,23 @@ impl PlayTop {
             sys.responses(|f, t| self.response(&k, f, t));
             sys.solve();
             let x = sys.x;
-            // the impulse at each part
+            // the impulse at each part, and its drilling impulse about ez
             let mut imp = [[0.0; 3]; MAX_PARTS];
+            let mut drill = [0.0; MAX_PARTS];
             for j in 0..sys.n {
                 let (i, axis) = owner[j];
                 let f = sys.force[j];
-                if axis == 3 {
-                    imp[i] = add(imp[i], scale(x[j], f));
-                } else {
-                    imp[i][axis] += x[j];
+                match axis {
+                    3 => imp[i] = add(imp[i], scale(x[j], f)),
+                    4 => drill[i] += x[j],
+                    _ => imp[i][axis] += x[j],
                 }
             }
             let mut out = *y;
             let (mut dv, mut dw) = (ZERO, ZERO);
             for &i in &parts {
-                let (a, b) = self.response(&k, imp[i], cross(self.part(i).arm(k.e3), imp[i]));
+                let torque = add(cross(self.part(i).arm(k.e3), imp[i]), scale(drill[i], EZ));
+                let (a, b) = self.response(&k, imp[i], torque);
                 dv = add(dv, a);
                 dw = add(dw, b);
             }
@@ -1019,8 +1060,10 @@ impl PlayTop {
                 let after = self.part(i).point_velocity(k1.v, k1.w, k1.e3);
                 match choice {
                     0 => {
+                        let m = if rb > 0.0 { drill[i] / rb } else { 0.0 };
                         pi[2] >= 0.0
-                            && (pi[0] * pi[0] + pi[1] * pi[1]).sqrt() <= mu * pi[2] * (1.0 + 1e-12)
+                            && (pi[0] * pi[0] + pi[1] * pi[1] + m * m).sqrt()
+                                <= mu * pi[2] * (1.0 + 1e-12)
                     }
                     1 => {
                         pi[2] >= 0.0 && vp[i][0] * after[0] + vp[i][1] * after[1] >= -tol_v * tol_v

@@ -86,6 +86,7 @@ bench: $(EXT)
 	$(PY) benchmarks/bench_play.py
 	$(PY) benchmarks/bench_tippe_mujoco.py
 	$(PY) benchmarks/bench_tippe_peg_mujoco.py
+	$(PY) benchmarks/bench_euler_disk_mujoco.py
 	$(PY) benchmarks/bench_sweep.py
 	$(PY) benchmarks/bench_quantum.py
 

@@ -117,6 +117,24 @@ def drift(x):
     return float(np.max(np.abs(x - x[0])) / abs(x[0]))
 
 
+def print_table(rows, columns):
+    """Prints rows (dicts) under a header: ``columns`` are (title, width, cell) with cell(row)
+    the text of a cell; the first column is left-aligned, the others right-aligned."""
+    align = ["<"] + [">"] * (len(columns) - 1)
+    print(" ".join(f"{c[0]:{a}{c[1]}}" for c, a in zip(columns, align)))
+    for row in rows:
+        print(" ".join(f"{c[2](row):{a}{c[1]}}" for c, a in zip(columns, align)))
+
+
+def write_results(path, result):
+    """Writes a benchmark's result dict as JSON (NaN allowed) to ``path`` and says so."""
+    import json
+
+    path.write_text(json.dumps(result, indent=2, allow_nan=True) + "\n")
+    print(f"wrote {path}")
+    return result
+
+
 def mujoco_or_none(script: str):
     """The mujoco module, or None after saying that ``script`` skips for want of it."""
     try:

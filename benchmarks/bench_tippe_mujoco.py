@@ -81,9 +81,9 @@ def first_above(t, u, level=LEVEL):
     return float(t[above[0]]) if len(above) else math.nan
 
 
-def compiled_body(mujoco, model):
-    """(m, com in the body frame, inertia about the com in the body frame) of the top."""
-    b = model.body("top").id
+def compiled_body(mujoco, model, body="top"):
+    """(m, com in the body frame, inertia about the com in the body frame) of a body."""
+    b = model.body(body).id
     rot = np.zeros(9)
     mujoco.mju_quat2Mat(rot, model.body_iquat[b])
     rot = rot.reshape(3, 3)

@@ -163,3 +163,24 @@ def test_an_egg_with_rolling_resistance_comes_to_rest_on_its_side():
     assert np.linalg.norm(run.omega[-1]) < 1e-5
     assert np.diff(run.energy).max() <= 1e-12 * run.energy[0]
     np.testing.assert_allclose(run.energy + run.dissipated, run.energy[0], rtol=1e-7)
+
+
+def test_simulate_many_reports_when_each_run_rests_or_lies_flat():
+    """The batch's summaries rest_time and flat_time are the events of kreisel.simulate run
+    alone (the batch ends a play top's run at rest, as simulate with events.rest() does)."""
+    import math
+
+    top = bodies.toy_top(rolling_resistance=RR)
+    states = [top.state(theta=0.3, psi_dot=w) for w in (60.0, 120.0)]
+    b = kreisel.simulate_many(top, states, 10.0, rtol=1e-8)
+    for st, t_rest in zip(states, b.rest_time):
+        run = kreisel.simulate(top, st, 10.0, rtol=1e-8, events=[events.rest()])
+        assert t_rest == run.events[-1].t
+    assert np.isnan(b.flat_time).all() and b.final_parts_in_contact.tolist() == [3, 3]
+    disk = bodies.disk(0.0375, 0.0125, 0.434, rolling_resistance=2e-3)
+    om = math.sqrt(disk.m * 9.81 * 0.0375 / disk.A / math.sin(0.3))
+    st = disk.state(theta=0.3, phi_dot=om, psi_dot=-om * math.cos(0.3))
+    b = kreisel.simulate_many(disk, st, 5.0, rtol=1e-8)
+    run = kreisel.simulate(disk, st, 5.0, rtol=1e-8)
+    assert run.events[-1].name == "flat" and b.flat_time[0] == run.events[-1].t
+    assert np.isnan(b.rest_time[0])

@@ -41,6 +41,10 @@ class BatchSummary:
     final_parts_in_contact: np.ndarray | None = None
     #: Each part's first touchdown (s; NaN if none), shape (runs, 4): column i is part i.
     first_touchdown_time: np.ndarray | None = None
+    #: When a ring part came down flat, ending the run (s; NaN if none): Euler's disk.
+    flat_time: np.ndarray | None = None
+    #: When the top came to rest, ending the run (s; NaN if none): the event ``rest``.
+    rest_time: np.ndarray | None = None
 
     def __len__(self) -> int:
         return len(self.final_u)

@@ -479,6 +479,13 @@ pub fn many<'py>(
                 direction: 1,
                 terminal: false,
             });
+            // and the time it comes to rest, where its run ends (nothing happens after)
+            st.events.push(EventDef {
+                name: "rest".into(),
+                kind: EventKind::Rest,
+                direction: -1,
+                terminal: true,
+            });
             let res = py.detach(move || batch::many(&runs, &st, threads)).py(py)?;
             summary_columns(py, "play", &res, |s, k| s.get(k))
         }

@@ -60,7 +60,7 @@ const fn field(
 }
 
 /// Every summary, by model, in the order they are stored.
-pub const SUMMARY_FIELDS: [SummaryField; 25] = [
+pub const SUMMARY_FIELDS: [SummaryField; 27] = [
     field("play", "final_u", "1", "u = cos(theta) at the end"),
     SummaryField {
         category: "modes",
@@ -114,6 +114,18 @@ pub const SUMMARY_FIELDS: [SummaryField; 25] = [
         "first_touchdown_time_3",
         "s",
         "first touchdown of part 3 (s), NaN if none",
+    ),
+    field(
+        "play",
+        "flat_time",
+        "s",
+        "the time a ring part came down flat and ended the run (s), NaN if none",
+    ),
+    field(
+        "play",
+        "rest_time",
+        "s",
+        "the time the top came to rest and the run ended (s), NaN if none",
     ),
     field("heavy", "final_theta", "rad", "theta at the end (rad)"),
     field(

@@ -452,6 +452,10 @@ pub struct PlaySummary {
     pub final_parts: u8,
     /// Each part's first touchdown (s), NaN if none.
     pub first_touchdown: [f64; MAX_PARTS],
+    /// When a ring part came down flat (the run's end), NaN if none.
+    pub flat_time: f64,
+    /// When the top came to rest (the event `rest`), NaN if none.
+    pub rest_time: f64,
 }
 
 impl PlaySummary {
@@ -470,6 +474,8 @@ impl PlaySummary {
             "first_touchdown_time_1" => self.first_touchdown[1],
             "first_touchdown_time_2" => self.first_touchdown[2],
             "first_touchdown_time_3" => self.first_touchdown[3],
+            "flat_time" => self.flat_time,
+            "rest_time" => self.rest_time,
             _ => return None,
         })
     }
@@ -506,6 +512,12 @@ impl Accumulate<PlayRow> for PlayAcc<'_> {
     fn finish(self, info: &RunInfo) -> PlaySummary {
         let (j0, e0) = self.first.unwrap_or((f64::NAN, f64::NAN));
         let last = self.last;
+        let at = |name: &str| {
+            info.events
+                .iter()
+                .find(|e| e.name == name)
+                .map_or(f64::NAN, |e| e.t)
+        };
         PlaySummary {
             final_u: last.map_or(f64::NAN, |r| self.top.kin(&r.y).u),
             final_mode: last.map_or(Mode::Flight, |r| r.mode()),
@@ -524,6 +536,8 @@ impl Accumulate<PlayRow> for PlayAcc<'_> {
                     .find(|e| e.index.is_none() && e.part == Some(i) && e.name == "touchdown")
                     .map_or(f64::NAN, |e| e.t)
             }),
+            flat_time: at("flat"),
+            rest_time: at("rest"),
         }
     }
 }

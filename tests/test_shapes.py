@@ -73,6 +73,33 @@ def test_a_disk_rolling_with_its_centre_at_rest_stays_so(alpha):
     assert rate == pytest.approx(omega, rel=1e-9), e3.shape
 
 
+@pytest.mark.parametrize("alpha", [0.3, 1.0])
+def test_a_thick_disk_rolls_with_its_centre_at_rest_on_its_own_law(alpha):
+    """A thick disk (kreisel.bodies.disk: two sharp rims at z = +-h/2) on its lower rim, k =
+    h/(2a). Derived here: rolling with G at rest needs omega parallel to G -> T, T the lower
+    rim's lowest point, GT = -(a/s) ez + (a c/s - a k) e3 (c, s = cos, sin alpha), so with
+    omega = Omega ez + psi_dot e3, psi_dot = -Omega (c - k s); then omega . e3 = Omega k s,
+    L = A Omega ez + Omega (C k s - A c) e3, and Omega ez x L = GT x m g ez gives
+    Omega^2 s (A c - C k s) = m g a (c - k s) (PHYSICS 4.5 at k = 0)."""
+    from kreisel import bodies
+
+    a, h, m, g = 0.0375, 0.0125, 0.434, 9.81
+    disk = bodies.disk(a, h, m, friction=Coulomb(0.3))
+    k, c, s = h / (2 * a), np.cos(alpha), np.sin(alpha)
+    omega = np.sqrt(m * g * a * (c - k * s) / (s * (disk.A * c - disk.C * k * s)))
+    st = disk.state(theta=alpha, phi_dot=omega, psi_dot=-omega * (c - k * s))
+    run = kreisel.simulate(disk, st, 1.0, t_eval=np.linspace(0.0, 1.0, 501))
+    assert set(run.mode) == {"roll"} and run.events == []
+    np.testing.assert_allclose(run.u, c, atol=1e-11)
+    assert np.abs(run.com_velocity).max() < 1e-10
+    np.testing.assert_allclose(run.part_normal_force[:, 1], m * g, rtol=1e-9)
+    # the thin-disk law would not hold it
+    thin = np.sqrt(m * g * a / (disk.A * s))
+    st = disk.state(theta=alpha, phi_dot=thin, psi_dot=-thin * c)
+    off = kreisel.simulate(disk, st, 1.0, t_eval=np.linspace(0.0, 1.0, 501))
+    assert np.abs(off.u - c).max() > 1e-4
+
+
 def test_a_disk_started_off_its_steady_motion_does_not_stay():
     """The same disk with 10 % less precession: the closed form is what holds it."""
     a, m, g, alpha = 0.0375, 0.1, 9.81, 0.8

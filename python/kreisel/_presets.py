@@ -68,13 +68,17 @@ def _body_table(top) -> dict:
 
 
 def _disk_preset(name, summary, radius, thickness, mass, rolling) -> Preset:
-    """A disk started near its rolling with the centre at rest at 0.3 rad (PHYSICS 4.5:
-    Omega^2 sin(alpha) = m g a / A, psi_dot = -Omega cos(alpha))."""
+    """A disk started on its rolling with the centre at rest at 0.3 rad. With k = h / (2 a),
+    rolling with G at rest needs omega along G to the lower rim's lowest point, psi_dot =
+    -Omega (cos(alpha) - k sin(alpha)), and the gravity torque turns L when Omega^2
+    sin(alpha) (A cos(alpha) - C k sin(alpha)) = m g a (cos(alpha) - k sin(alpha)) (PHYSICS 4.5
+    at k = 0; tests/test_shapes.py checks that the thick disk stays on it)."""
     top = bodies.disk(radius, thickness, mass, rolling_resistance=rolling)
-    alpha = 0.3
-    omega = math.sqrt(mass * 9.81 * radius / top.A / math.sin(alpha))
+    alpha, k = 0.3, thickness / (2 * radius)
+    c, s = math.cos(alpha), math.sin(alpha)
+    omega = math.sqrt(mass * 9.81 * radius * (c - k * s) / (s * (top.A * c - top.C * k * s)))
     return Preset(name, summary, _body_table(top),
-                  {"theta": alpha, "phi_dot": omega, "psi_dot": -omega * math.cos(alpha)},
+                  {"theta": alpha, "phi_dot": omega, "psi_dot": -omega * (c - k * s)},
                   {"t_end": 3.0, "rtol": 1e-8, "samples": 3001})  # fmt: skip
 
 

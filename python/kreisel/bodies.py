@@ -71,7 +71,7 @@ def disk(
     """A uniform solid disk (a cylinder of ``radius`` and ``thickness``, m; ``mass`` kg):
     ``C = m a^2 / 2`` about its axis and ``A = m (3 a^2 + h^2) / 12`` across it; its contact
     parts are its two sharp rims, ``Torus(a, 0, +h/2, "upper_rim")`` and ``Torus(a, 0, -h/2,
-    "lower_rim")``. Euler's disk is ``disk(0.0375, 0.0125, 0.1)``-sized; a coin is one too.
+    "lower_rim")``. Euler's disk is ``disk(0.0375, 0.0125, 0.434)`` (steel); a coin is one too.
     Friction defaults to Coulomb (mu 0.3).
 
     Examples

@@ -90,7 +90,11 @@ SAMPLE = 1e-4  # s, the output grid of the timed kreisel runs (20 samples a turn
 EVERY_STEP_LIMIT = 3_000_000  # steps: above it no run returning every step (memory)
 # (step s, solref time constant s or None for MuJoCo's default 0.02 s)
 MUJOCO_RUNS = ((0.002, None), (0.0002, None), (0.0002, 0.001))
-RTOLS = (1e-6, 1e-8, 1e-10)
+# kreisel's friction: Coulomb-Contensou over the patch whose largest drilling torque per
+# newton, mu 3 pi R / 16, is MuJoCo's torsional coefficient (as in T3), and point Coulomb
+# friction with the torsional coefficient as a drilling resistance; and their tolerances
+PATCH = TORSION * 16 / (3 * math.pi * MU)  # m
+KREISEL_RUNS = (("contensou", (1e-6, 1e-8, 1e-10)), ("coulomb", (1e-6, 1e-8)))
 # sin(alpha) windows of the precession fits: early (rolling) and late (towards flat)
 EARLY, LATE = (0.1, 0.3), (1e-3, 3e-2)
 DECADES = (0.3, 0.1, 0.03, 0.01, 3e-3, 1e-3, 3e-4, 1e-4)
@@ -262,7 +266,10 @@ def run_mujoco(mujoco, state, dt, solref, t_end, repeats):
     }
 
 
-def make_disk(mass):
+def make_disk(mass, law="contensou"):
+    if law == "contensou":
+        return bodies.disk(RADIUS, THICKNESS, mass, friction=kreisel.CoulombContensou(MU, PATCH),
+                           rolling_resistance=ROLLING)  # fmt: skip
     return bodies.disk(
         RADIUS, THICKNESS, mass, friction=kreisel.Coulomb(MU),
         rolling_resistance=ROLLING, drilling_resistance=TORSION,
@@ -355,15 +362,17 @@ def main(argv=None):
         })  # fmt: skip
 
     cost = {}
-    for rtol in RTOLS:
-        traj, k_sec, every = run_kreisel(top, state, args.t_end, rtol, args.repeats)
-        sin_alpha, azimuth = np.sin(traj.theta), np.unwrap(traj.phi)
-        alpha, omega = precession(traj.t, sin_alpha, azimuth)
-        rise_step, rise_any = energy_rises(traj.energy)
-        flat = [e.t for e in traj.events if e.name == "flat"]
-        stats = {k: int(v) for k, v in traj.stats.items()}
-        rows.append({
-            "name": f"kreisel dop853 rtol={rtol:g}",
+    for law, rtols in KREISEL_RUNS:
+        for rtol in rtols:
+            traj, k_sec, every = run_kreisel(make_disk(mass, law), state, args.t_end, rtol,
+                                         args.repeats)  # fmt: skip
+            sin_alpha, azimuth = np.sin(traj.theta), np.unwrap(traj.phi)
+            alpha, omega = precession(traj.t, sin_alpha, azimuth)
+            rise_step, rise_any = energy_rises(traj.energy)
+            flat = [e.t for e in traj.events if e.name == "flat"]
+            stats = {k: int(v) for k, v in traj.stats.items()}
+            rows.append({
+            "name": f"kreisel {law} rtol={rtol:g}",
             "seconds": k_sec,
             "steps": stats["steps"],
             "t_flat": flat[0] if flat else math.nan,
@@ -378,9 +387,9 @@ def main(argv=None):
             "stats": stats,
             "events": len(traj.events),
         })  # fmt: skip
-        if every is not None:
-            cost[f"{rtol:g}"] = cost_by_decade(every)
-        del traj, every
+            if every is not None:
+                cost[f"{law} {rtol:g}"] = cost_by_decade(every)
+            del traj, every
     steal, load1 = steal_share(cpu0, cpu_counters()), os.getloadavg()
 
     print(

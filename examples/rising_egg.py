@@ -4,14 +4,14 @@
 Figure: a hard-boiled egg (kreisel.bodies.egg: a uniform solid prolate spheroid, semi-axes
 22.5 and 30 mm) spun about the vertical while lying on its side, 0.05 rad off the horizontal.
 
-Top: the final |u| = |cos(theta)| after 120 s against the spin, 101 runs under viscous
-friction (kreisel.simulate_many), with the steady no-slip theory (the settled |u| of
+Top: the final ``|u| = |cos(theta)|`` after 120 s against the spin, 101 runs under viscous
+friction (kreisel.simulate_many), with the steady no-slip theory (the settled ``|u|`` of
 kreisel.bodies.egg_settled_inclination, its thresholds solid) and Moffatt and Shimomura's
 gyroscopic balance (its settling curve and thresholds dotted): the egg rises above 46.7 rad/s,
 not above the balance's 39.6, and settles where the steady motion of its Jellett's integral
 is. Below: one run at 56 rad/s under that viscous law (it rises part way and stays) and one
 at 90 rad/s under Coulomb-Contensou friction (it stands on its end, then the drilling torque
-drains Jellett's integral J and it sinks back): |u|, the energy E with E + dissipated, and J.
+drains Jellett's integral J and it sinks back): ``|u|``, the energy E with E + dissipated, and J.
 
     python examples/rising_egg.py [OUT_DIR]
 

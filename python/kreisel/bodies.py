@@ -238,7 +238,7 @@ def egg_rising_thresholds(
 def egg_settled_inclination(
     spin: float, equatorial: float = 0.0225, axial: float = 0.03, g: float = 9.81
 ) -> float:
-    """|u| = |cos(theta)| of the steady no-slip motion an egg (a uniform solid prolate
+    """``|u| = |cos(theta)|`` of the steady no-slip motion an egg (a uniform solid prolate
     spheroid, as in :func:`egg_rising_thresholds`) spun at ``spin`` rad/s about the vertical
     on its side settles on, if Jellett's integral J = A spin a is kept: 0 below
     ``rise``, 1 above ``stand``, between them the root of J(u) = J (J(u) rises with u).

@@ -72,7 +72,10 @@ def disk(
     ``C = m a^2 / 2`` about its axis and ``A = m (3 a^2 + h^2) / 12`` across it; its contact
     parts are its two sharp rims, ``Torus(a, 0, +h/2, "upper_rim")`` and ``Torus(a, 0, -h/2,
     "lower_rim")``. Euler's disk is ``disk(0.0375, 0.0125, 0.434)`` (steel); a coin is one too.
-    Friction defaults to Coulomb (mu 0.3).
+    Friction defaults to Coulomb-Contensou (mu 0.3 over a 0.2 mm patch: a rim's contact is a
+    small patch, and its drilling friction is what brings Euler's disk down, Leine, Arch. Appl.
+    Mech. 79 (2009) 1063; point Coulomb friction gives nearly the same time to flat, but its
+    slip creeps at the explicit method's stability limit and a run takes 20-40 times longer).
 
     Examples
     --------
@@ -83,7 +86,7 @@ def disk(
     """
     a, h = _positive("radius", radius), _positive("thickness", thickness)
     m = _positive("mass", mass)
-    friction = Coulomb(0.3) if friction is None else friction
+    friction = CoulombContensou(0.3, 2e-4) if friction is None else friction
     return PlayTop(m, m * (3 * a * a + h * h) / 12, m * a * a / 2,
                    shape=[Torus(a, 0.0, h / 2, "upper_rim"), Torus(a, 0.0, -h / 2, "lower_rim")],
                    friction=friction, **kwargs)  # fmt: skip

@@ -1099,6 +1099,115 @@ mod tests {
         PlayTop::with_parts(0.006, 8e-7, 7e-7, parts, 9.81, friction, 0.0, 0.0, 0.0, 0.0).unwrap()
     }
 
+    /// A system whose matrix is `a` (unit wrenches, rows picking its entries), solved.
+    fn solved<const U: usize>(a: &[[f64; 3]], rhs: &[f64], weight: &[f64]) -> [f64; U] {
+        let mut sys = System::<U>::new();
+        for (c, &b) in rhs.iter().enumerate() {
+            let mut e = ZERO;
+            e[c] = 1.0;
+            sys.push(e, ZERO, ZERO, ZERO, b);
+            sys.weight[c] = weight[c];
+        }
+        for (r, row) in a.iter().enumerate() {
+            sys.jv[r] = *row; // a[r][c] = jv[r] . e_c
+        }
+        sys.responses(|f, t| (f, t));
+        sys.solve();
+        sys.x
+    }
+
+    /// A redundant column before a determined one: the pivot of the determined column is in
+    /// the row the redundant column passed (the elimination used to skip that row and leave
+    /// the determined unknown at 0).
+    #[test]
+    fn every_pivot_is_found_after_a_redundant_column() {
+        let a = [[0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [0.0, 0.0, 0.0]];
+        let x: [f64; 3] = solved(&a, &[1.0, 2.0, 0.0], &[1.0; 3]);
+        assert_eq!(x, [0.0, 1.0, 2.0]);
+    }
+
+    /// Of the solutions of a redundant system, the one of least weighted norm: x0 + x1 = 2
+    /// with weights (1, 3) gives x0 = 3/2, x1 = 1/2 (the minimum of x0^2 + 3 x1^2 on it).
+    #[test]
+    fn a_redundant_system_takes_its_least_weighted_norm_solution() {
+        let a = [[1.0, 1.0, 0.0], [1.0, 1.0, 0.0], [0.0, 0.0, 2.0]];
+        let x: [f64; 3] = solved(&a, &[2.0, 2.0, 1.0], &[1.0, 3.0, 1.0]);
+        assert!(
+            (x[0] - 1.5).abs() < 1e-14 && (x[1] - 0.5).abs() < 1e-14,
+            "{x:?}"
+        );
+        assert!((x[2] - 0.5).abs() < 1e-15);
+    }
+
+    /// Two sticking parts whose tangential forces along x only appear as their sum (the
+    /// statically indeterminate split): normal forces 2 and 3 N, the sum T = 0.5 N, mu = 0.3.
+    /// The split of largest smallest margin makes the margins equal, mu N0 - t0 = mu N1 - t1
+    /// with t0 + t1 = T: t0 = (T - mu (N1 - N0)) / 2 = 0.1 N, margins 0.5 N each (the
+    /// least-norm split, 0.25 N each, leaves part 0 a margin of 0.35 N only).
+    #[test]
+    fn an_indeterminate_split_takes_the_largest_smallest_margin() {
+        let top = ball(
+            Friction::Coulomb { mu: 0.3 },
+            &[Shape::Sphere {
+                radius: 0.01,
+                z: 0.0,
+            }],
+        );
+        let mut sys = System::<MAXU>::new();
+        let mut what = [Unknown::StickN(0); MAXU];
+        // unknowns N0, T0x, T0y, N1, T1x, T1y: unit wrenches in force (0..3) and torque (3..6)
+        let unit = |c: usize| {
+            let mut e = ZERO;
+            e[c % 3] = 1.0;
+            if c < 3 {
+                (e, ZERO)
+            } else {
+                (ZERO, e)
+            }
+        };
+        let kinds = [
+            Unknown::StickN(0),
+            Unknown::StickT(0, 0),
+            Unknown::StickT(0, 1),
+            Unknown::StickN(1),
+            Unknown::StickT(1, 0),
+            Unknown::StickT(1, 1),
+        ];
+        // rows: N0 = 2, T0y = 0, N1 = 3, T1y = 0, T0x + T1x = 0.5 (twice: redundant)
+        let rows: [(&[usize], f64); 6] = [
+            (&[0], 2.0),
+            (&[2], 0.0),
+            (&[3], 3.0),
+            (&[5], 0.0),
+            (&[1, 4], 0.5),
+            (&[1, 4], 0.5),
+        ];
+        for (c, kind) in kinds.into_iter().enumerate() {
+            let (f, t) = unit(c);
+            what[c] = kind;
+            let (cols, b) = rows[c];
+            let (mut jv, mut jw) = (ZERO, ZERO);
+            for &k in cols {
+                let (fk, tk) = unit(k);
+                jv = add(jv, fk);
+                jw = add(jw, tk);
+            }
+            sys.push(f, t, jv, jw, b);
+        }
+        sys.responses(|f, t| (f, t));
+        sys.solve();
+        assert_eq!(sys.m, 1);
+        assert!((sys.x[1] - 0.25).abs() < 1e-14 && (sys.x[4] - 0.25).abs() < 1e-14);
+        top.most_margin(&mut sys, &what);
+        let x = sys.x;
+        assert!(
+            (x[1] - 0.1).abs() < 1e-9 && (x[4] - 0.4).abs() < 1e-9,
+            "{x:?}"
+        );
+        assert!((x[0] - 2.0).abs() < 1e-12 && (x[3] - 3.0).abs() < 1e-12);
+        assert!(x[2].abs() < 1e-12 && x[5].abs() < 1e-12);
+    }
+
     /// One sphere under the several-part equations gives the one-sphere equations' right-hand
     /// side, in every mode and friction law.
     #[test]

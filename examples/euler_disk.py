@@ -1,5 +1,5 @@
 """Euler's disk: the precession speeds up without bound as it settles, and it lies flat
-===================================================================================
+====================================================================================
 
 Figure: the steel disk of benchmark T4 (``kreisel.bodies.disk(0.0375, 0.0125, 0.4335)``,
 Coulomb-Contensou friction mu = 0.3 over a 0.57 mm patch, rolling resistance 0.2 mm) started

@@ -383,9 +383,7 @@ impl PlayTop {
             out[4 + i] += dw[i];
             out[10 + i] += p[i] / self.m;
         }
-        let (t0, r0, _) = self.energy_parts(y);
-        let (t1, r1, _) = self.energy_parts(&out);
-        (out, (t0 + r0) - (t1 + r1))
+        (out, self.kinetic_energy(y) - self.kinetic_energy(&out))
     }
 
     /// Puts a contact state exactly on the constraint: height and vertical velocity of G

@@ -431,37 +431,19 @@ impl Hybrid for Multi<'_> {
                 for round in 0..n {
                     let k = top.mkin(y);
                     let mut want = c;
+                    let mut tried = 0u8;
                     for j in 0..n {
                         let vp = top.parts.shape[j].point_velocity(k.v, k.w, k.e3);
                         if c.mode[j] == Mode::Slip
                             && ((round == 0 && j == i) || top.slide_measure(vp, k.w[2]) <= eps)
                         {
                             want.mode[j] = Mode::Roll;
+                            tried |= 1 << j;
                         }
                     }
-                    // A sticking part whose friction leaves its ellipse slides against it.
-                    for _ in 0..n {
-                        let f = top.multi_dynamics(&want, y, &mut dy);
-                        let Some(j) = (0..n)
-                            .filter(|&j| want.mode[j] == Mode::Roll && c.mode[j] != Mode::Roll)
-                            .min_by(|&p, &q| {
-                                top.stick_margin(&f, p).total_cmp(&top.stick_margin(&f, q))
-                            })
-                            .filter(|&j| top.stick_margin(&f, j) < 0.0 || f.n[j] < 0.0)
-                        else {
-                            break;
-                        };
-                        let t = (f.ft[j][0] * f.ft[j][0] + f.ft[j][1] * f.ft[j][1]).sqrt();
-                        if t > 0.0 {
-                            want.dir[j] = [-f.ft[j][0] / t, -f.ft[j][1] / t];
-                        }
-                        want.mode[j] = Mode::Slip;
-                    }
-                    let f = top.multi_dynamics(&want, y, &mut dy);
+                    let f = top.demote(&mut want, y, tried, &mut dy);
                     let push = (0..n).all(|j| want.mode[j] == Mode::Flight || f.n[j] >= 0.0);
-                    let sticking = (0..n).fold(0u8, |acc, j| {
-                        acc | (u8::from(want.mode[j] == Mode::Roll && c.mode[j] != Mode::Roll) << j)
-                    });
+                    let sticking = tried & want.mask_of(Mode::Roll, n);
                     if !push || sticking == 0 {
                         for j in 0..n {
                             if want.mode[j] == Mode::Slip && c.mode[j] == Mode::Slip {
@@ -488,12 +470,7 @@ impl Hybrid for Multi<'_> {
             }
             MSwitch::RollToSlip(i) => {
                 let mut dy = [0.0; DIM];
-                let f = top.multi_dynamics(&c, y, &mut dy);
-                let t = (f.ft[i][0] * f.ft[i][0] + f.ft[i][1] * f.ft[i][1]).sqrt();
-                if t > 0.0 {
-                    c.dir[i] = [-f.ft[i][0] / t, -f.ft[i][1] / t];
-                }
-                c.mode[i] = Mode::Slip;
+                c.slide_against(i, &top.multi_dynamics(&c, y, &mut dy));
                 let f = top.multi_dynamics(&c, y, &mut dy);
                 if f.n[i] < 0.0 {
                     c.mode[i] = Mode::Flight;
@@ -599,6 +576,9 @@ impl OdeSystem<DIM> for MultiSystem<'_> {
     }
 }
 
+/// A play top rests when its kinetic energy has fallen to this share of its start.
+const REST: f64 = 1e-12;
+
 /// The hybrid run of `top` under the rules `h` (see [`crate::simulate::Model::run`]).
 pub(crate) fn drive<H: Hybrid>(
     h: &H,
@@ -624,10 +604,8 @@ pub(crate) fn drive<H: Hybrid>(
     let mut next_sample = 0usize;
     // Each inversion event fires once.
     let mut fired = vec![false; settings.events.len()];
-    let ke0 = {
-        let (tr, rot, _) = top.energy_parts(&y);
-        tr + rot
-    };
+    // The top rests once its kinetic energy falls below this.
+    let rest_level = REST * top.kinetic_energy(&y);
     let mut first = true;
     let mut stopped = false;
     loop {
@@ -671,8 +649,7 @@ pub(crate) fn drive<H: Hybrid>(
                 }
                 EventKind::Rest => {
                     fns.push(Box::new(move |_t: f64, y: &[f64; DIM]| {
-                        let (tr, rot, _) = top.energy_parts(y);
-                        tr + rot - 1e-12 * ke0
+                        top.kinetic_energy(y) - rest_level
                     }));
                 }
                 _ => continue,
@@ -750,11 +727,7 @@ pub(crate) fn drive<H: Hybrid>(
             break;
         };
         let before = h.row(&phase, &y).contacts.mode;
-        let kinetic = |y: &[f64; DIM]| {
-            let (tr, rot, _) = top.energy_parts(y);
-            tr + rot
-        };
-        let ke_before = kinetic(&y);
+        let ke_before = top.kinetic_energy(&y);
         phase = h.apply(switch, &phase, &mut y, settings.rtol);
         // Other parts that the switch lifted off, put down, stuck or set sliding at the same
         // instant (an impulse, or parts that stick jointly).
@@ -785,8 +758,7 @@ pub(crate) fn drive<H: Hybrid>(
         }
         // A switch that stops the top (the impulse or the projection that ends its last
         // slip or drilling) is where it comes to rest: no later crossing would show it.
-        let level = 1e-12 * ke0;
-        if ke_before >= level && kinetic(&y) < level {
+        if ke_before >= rest_level && top.kinetic_energy(&y) < rest_level {
             for (i, e) in settings.events.iter().enumerate() {
                 if matches!(e.kind, EventKind::Rest) {
                     info.events.push(EventRecord {

@@ -764,6 +764,12 @@ impl PlayTop {
         contact
     }
 
+    /// Kinetic energy, translation + rotation (J).
+    pub fn kinetic_energy(&self, y: &[f64; DIM]) -> f64 {
+        let (tr, rot, _) = self.energy_parts(y);
+        tr + rot
+    }
+
     /// Total energy: translation + rotation + potential (J).
     pub fn energy_parts(&self, y: &[f64; DIM]) -> (f64, f64, f64) {
         let w = [y[4], y[5], y[6]];

@@ -61,11 +61,25 @@ impl Contacts {
         }
     }
 
+    /// Part `i` slides against the friction force `f` says sticking would need.
+    pub fn slide_against(&mut self, i: usize, f: &Forces) {
+        let t = (f.ft[i][0] * f.ft[i][0] + f.ft[i][1] * f.ft[i][1]).sqrt();
+        if t > 0.0 {
+            self.dir[i] = [-f.ft[i][0] / t, -f.ft[i][1] / t];
+        }
+        self.mode[i] = Mode::Slip;
+    }
+
     /// The parts touching, as a bit mask (bit i: part i).
     pub fn mask(&self, n: usize) -> u8 {
         (0..n).fold(0, |acc, i| {
             acc | (u8::from(self.mode[i] != Mode::Flight) << i)
         })
+    }
+
+    /// The parts in `mode`, as a bit mask.
+    pub fn mask_of(&self, mode: Mode, n: usize) -> u8 {
+        (0..n).fold(0, |acc, i| acc | (u8::from(self.mode[i] == mode) << i))
     }
 }
 
@@ -549,26 +563,23 @@ impl PlayTop {
     /// search (Nelder and Mead) over the null space from the least-norm solution finds it.
     fn most_margin<const U: usize>(&self, sys: &mut System<U>, what: &[Unknown; U]) {
         let n = sys.n;
-        let mu = self.friction.mu();
-        let rb = self.friction.rbar();
         let worst = |x: &[f64; U]| -> f64 {
-            let mut nf = [0.0; MAX_PARTS];
-            let mut t = [[0.0; 3]; MAX_PARTS];
+            let mut f = Forces::default();
             let mut sticks = [false; MAX_PARTS];
             for j in 0..n {
                 match what[j] {
                     Unknown::StickN(i) => {
-                        nf[i] = x[j];
+                        f.n[i] = x[j];
                         sticks[i] = true;
                     }
-                    Unknown::StickT(i, axis) => t[i][axis] = x[j],
-                    Unknown::StickM(i) => t[i][2] = x[j] / rb,
+                    Unknown::StickT(i, axis) => f.ft[i][axis] = x[j],
+                    Unknown::StickM(i) => f.mz[i] = x[j],
                     Unknown::SlipN { .. } => {}
                 }
             }
             (0..MAX_PARTS)
                 .filter(|&i| sticks[i])
-                .map(|i| mu * nf[i] - dot(t[i], t[i]).sqrt())
+                .map(|i| self.stick_margin(&f, i))
                 .fold(f64::INFINITY, f64::min)
         };
         let m = sys.m;
@@ -664,11 +675,10 @@ impl PlayTop {
     /// Whether the friction a sticking part needs lies in its cone (Coulomb) or ellipse
     /// (Coulomb-Contensou), with a pushing normal force.
     pub fn stick_margin(&self, f: &Forces, i: usize) -> f64 {
-        let mu = self.friction.mu();
         let rb = self.friction.rbar();
-        let t = f.ft[i][0] * f.ft[i][0] + f.ft[i][1] * f.ft[i][1];
         let m = if rb > 0.0 { f.mz[i] / rb } else { 0.0 };
-        mu * f.n[i] - (t + m * m).sqrt()
+        let t = f.ft[i][0] * f.ft[i][0] + f.ft[i][1] * f.ft[i][1];
+        self.friction.mu() * f.n[i] - (t + m * m).sqrt()
     }
 
     /// Jellett's integral about the first part's lowest point: `-L . arm` (the classic
@@ -764,25 +774,7 @@ impl PlayTop {
                     c.mode[i] = want[i];
                 }
             }
-            // A sticking part whose friction leaves its cone slides against that force.
-            for _ in 0..2 {
-                let f = self.multi_dynamics(&c, y, &mut dy);
-                let mut changed = false;
-                for i in 0..n {
-                    if c.mode[i] == Mode::Roll && self.stick_margin(&f, i) < 0.0 {
-                        let t = (f.ft[i][0] * f.ft[i][0] + f.ft[i][1] * f.ft[i][1]).sqrt();
-                        if t > 0.0 {
-                            c.dir[i] = [-f.ft[i][0] / t, -f.ft[i][1] / t];
-                        }
-                        c.mode[i] = Mode::Slip;
-                        changed = true;
-                    }
-                }
-                if !changed {
-                    break;
-                }
-            }
-            let f = self.multi_dynamics(&c, y, &mut dy);
+            let f = self.demote(&mut c, y, s, &mut dy);
             let push = (0..n).all(|i| c.mode[i] == Mode::Flight || f.n[i] >= 0.0);
             let open = (0..n).all(|i| {
                 cand & (1 << i) == 0
@@ -794,6 +786,30 @@ impl PlayTop {
             }
         }
         None
+    }
+
+    /// The sticking parts of `movable` (bit mask) whose friction leaves its cone or ellipse
+    /// slide against it, one at a time, the furthest outside first (the forces change with
+    /// every part set sliding), until every one left holds. The forces of the modes reached;
+    /// `dy` their state derivative.
+    pub fn demote(
+        &self,
+        c: &mut Contacts,
+        y: &[f64; DIM],
+        movable: u8,
+        dy: &mut [f64; DIM],
+    ) -> Forces {
+        loop {
+            let f = self.multi_dynamics(c, y, dy);
+            let worst = (0..self.parts.n)
+                .filter(|&j| movable & (1 << j) != 0 && c.mode[j] == Mode::Roll)
+                .map(|j| (j, self.stick_margin(&f, j)))
+                .min_by(|a, b| a.1.total_cmp(&b.1));
+            match worst {
+                Some((j, margin)) if margin < 0.0 => c.slide_against(j, &f),
+                _ => return f,
+            }
+        }
     }
 
     /// The parts touching the floor at a state (gap within `tol` of zero) and not
@@ -816,43 +832,29 @@ impl PlayTop {
             *v /= nq;
         }
         self.fix_tilt(c, y);
-        let k = self.mkin(y);
-        let (mut h, mut vz, mut count) = (0.0, 0.0, 0.0);
-        let mut stick = None;
-        for i in 0..self.parts.n {
-            if c.mode[i] == Mode::Flight {
-                continue;
-            }
-            let p = self.part(i);
-            h += -p.arm(k.e3)[2];
-            vz += -p.gap_rate(0.0, k.w, k.e3);
-            count += 1.0;
-            if c.mode[i] == Mode::Roll && stick.is_none() {
-                stick = Some(i);
-            }
-        }
-        if count == 0.0 {
+        let on = (0..self.parts.n).filter(|&i| c.mode[i] != Mode::Flight);
+        if on.clone().next().is_none() {
             return;
         }
+        let stick = (0..self.parts.n).find(|&i| c.mode[i] == Mode::Roll);
         // The velocity's correction never creates energy: the kinetic energy it would add is
         // taken back by scaling the velocities (the constraints are homogeneous in them); the
         // kinetic energy it removes is counted as dissipated.
-        let ke = |y: &[f64; DIM]| {
-            let (tr, rot, _) = self.energy_parts(y);
-            tr + rot
-        };
-        let before = ke(y);
-        let mut k = k;
+        let before = self.kinetic_energy(y);
+        let mut k = self.mkin(y);
         if stick.is_some() && self.friction.rbar() > 0.0 && k.w[2] != 0.0 {
             // Sticking over a patch neither slides nor drills (D = 0): the drilling rate left
             // at the switch (below the tolerance over rbar) and its drift are removed.
             let wb = k.to_body([k.w[0], k.w[1], 0.0]);
             y[4..7].copy_from_slice(&wb);
             k = self.mkin(y);
-            vz = (0..self.parts.n)
-                .filter(|&i| c.mode[i] != Mode::Flight)
-                .map(|i| -self.part(i).gap_rate(0.0, k.w, k.e3))
-                .sum();
+        }
+        let (mut h, mut vz, mut count) = (0.0, 0.0, 0.0);
+        for i in on {
+            let p = self.part(i);
+            h -= p.arm(k.e3)[2];
+            vz -= p.gap_rate(0.0, k.w, k.e3);
+            count += 1.0;
         }
         y[9] = h / count;
         y[12] = vz / count;
@@ -861,14 +863,11 @@ impl PlayTop {
             y[10] = v[0];
             y[11] = v[1];
         }
-        let after = ke(y);
+        let after = self.kinetic_energy(y);
         if after > before && after > 0.0 {
             let f = (before / after).sqrt();
-            for x in &mut y[4..7] {
-                *x *= f;
-            }
-            for x in &mut y[10..13] {
-                *x *= f;
+            for i in (4..7).chain(10..13) {
+                y[i] *= f;
             }
         } else {
             y[13] += before - after;
@@ -914,13 +913,12 @@ impl PlayTop {
         let delta = u.acos() - k.e3[2].clamp(-1.0, 1.0).acos();
         let q = Quat::from_axis_angle(n, delta).hamilton(k.q).normalized();
         y[..4].copy_from_slice(&q.0);
-        let (t0, r0, _) = self.energy_parts(y);
+        let before = self.kinetic_energy(y);
         let w = add(k.w, scale(-dot(k.w, n), n));
         let k1 = self.mkin(y);
         let wb = k1.to_body(w);
         y[4..7].copy_from_slice(&wb);
-        let (t1, r1, _) = self.energy_parts(y);
-        y[13] += ((t0 + r0) - (t1 + r1)).max(0.0);
+        y[13] += (before - self.kinetic_energy(y)).max(0.0);
     }
 
     /// The impulses at the parts of `set` (bit mask) that make their material points'
@@ -959,7 +957,7 @@ impl PlayTop {
         let vp: Vec<[f64; 3]> = (0..n)
             .map(|i| self.part(i).point_velocity(k.v, k.w, k.e3))
             .collect();
-        let (t0, r0, _) = self.energy_parts(y);
+        let ke = self.kinetic_energy(y);
         // choice per part: 0 stick, 1 slide, 2 free; combinations ordered by preference
         let m = parts.len() as u32;
         let mut combos: Vec<Vec<u8>> = (0..3u32.pow(m))
@@ -1074,9 +1072,8 @@ impl PlayTop {
             if !ok {
                 continue;
             }
-            let (t1, r1, _) = self.energy_parts(&out);
-            let loss = (t0 + r0) - (t1 + r1);
-            if loss < -1e-12 * (t0 + r0) {
+            let loss = ke - self.kinetic_energy(&out);
+            if loss < -1e-12 * ke {
                 continue;
             }
             out[13] += loss.max(0.0);

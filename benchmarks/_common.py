@@ -18,6 +18,18 @@ def best_of(fn, repeats):
     return best, out
 
 
+def best_mujoco_run(mujoco, model, data, reset, steps, repeats):
+    """Best wall time (s) over ``repeats`` of one ``mj_step(model, data, nstep=steps)`` call,
+    each after ``reset()`` (untimed)."""
+    best = math.inf
+    for _ in range(repeats):
+        reset()
+        start = time.perf_counter()
+        mujoco.mj_step(model, data, nstep=steps)
+        best = min(best, time.perf_counter() - start)
+    return best
+
+
 def cpu_counters():
     """The machine's CPU time counters (/proc/stat, first line), None where there are none."""
     try:

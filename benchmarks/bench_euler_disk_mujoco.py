@@ -60,12 +60,13 @@ import math
 import os
 import pathlib
 import sys
-import time
 
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 import numpy as np
 from _common import (
+    best_mujoco_run,
+    best_of,
     cpu_counters,
     mujoco_or_none,
     print_table,
@@ -237,16 +238,8 @@ def run_mujoco(mujoco, state, dt, solref, t_end, repeats):
     sin_alpha, azimuth = axis_series(quats)
     t_flat = first_below(t, sin_alpha, FLAT)
     timed = steps if math.isnan(t_flat) else round(t_flat / dt)
-    best = best_full = math.inf
-    for _ in range(repeats):
-        reset()
-        start = time.perf_counter()
-        mujoco.mj_step(model, data, nstep=timed)
-        best = min(best, time.perf_counter() - start)
-    reset()
-    start = time.perf_counter()
-    mujoco.mj_step(model, data, nstep=steps)
-    best_full = time.perf_counter() - start
+    best = best_mujoco_run(mujoco, model, data, reset, timed, repeats)
+    best_full = best_mujoco_run(mujoco, model, data, reset, steps, 1)
     axis = quat_to_matrix(quats)[:, :, 2]
     penetration = -(height + lowest_point_offset(axis)[:, 2])
     return {
@@ -280,11 +273,10 @@ def run_kreisel(top, state, t_end, rtol, repeats):
     """(the run sampled every SAMPLE s, its best wall time, the run returning every step or
     None where it would have more than EVERY_STEP_LIMIT steps)."""
     grid = np.arange(0.0, t_end + SAMPLE / 2, SAMPLE)
-    best, traj = math.inf, None
-    for _ in range(repeats):
-        start = time.perf_counter()
-        traj = kreisel.simulate(top, state, t_end, rtol=rtol, atol=rtol * 1e-2, t_eval=grid)
-        best = min(best, time.perf_counter() - start)
+    best, traj = best_of(
+        lambda: kreisel.simulate(top, state, t_end, rtol=rtol, atol=rtol * 1e-2, t_eval=grid),
+        repeats,
+    )
     if traj.stats["steps"] > EVERY_STEP_LIMIT:
         return traj, best, None
     return traj, best, kreisel.simulate(top, state, t_end, rtol=rtol, atol=rtol * 1e-2)

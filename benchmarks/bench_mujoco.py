@@ -31,7 +31,7 @@ import time
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 import numpy as np
-from _common import mujoco_or_none, quat_to_matrix
+from _common import best_mujoco_run, mujoco_or_none, quat_to_matrix
 
 import kreisel
 
@@ -130,12 +130,7 @@ def run_mujoco(mujoco, integrator, dt, steps, repeats):
         qs[k] = data.qpos
         ws[k] = data.qvel
     # timed passes: one call for all the steps
-    best = math.inf
-    for _ in range(repeats):
-        reset()
-        start = time.perf_counter()
-        mujoco.mj_step(model, data, nstep=steps)
-        best = min(best, time.perf_counter() - start)
+    best = best_mujoco_run(mujoco, model, data, reset, steps, repeats)
     if diverged_at is None:
         assert np.allclose(data.qpos, qs[-1], rtol=0, atol=1e-12), "MuJoCo not deterministic?"
     return qs, ws, best, diverged_at

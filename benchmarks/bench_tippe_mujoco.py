@@ -33,17 +33,23 @@ rise. The two runs need not agree on the inversion.
 
 from __future__ import annotations
 
-import json
 import math
 import os
 import pathlib
 import sys
-import time
 
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 import numpy as np
-from _common import drift, mujoco_or_none, quat_to_matrix, repeats_and_t_end
+from _common import (
+    best_mujoco_run,
+    best_of,
+    drift,
+    mujoco_or_none,
+    quat_to_matrix,
+    repeats_and_t_end,
+    write_results,
+)
 
 import kreisel
 
@@ -113,12 +119,7 @@ def run_mujoco(mujoco, steps, repeats):
         qs[k] = data.qpos[3:7]
         ws[k] = data.qvel[3:6]
     final = data.qpos.copy()
-    best = math.inf
-    for _ in range(repeats):
-        reset()
-        start = time.perf_counter()
-        mujoco.mj_step(model, data, nstep=steps)
-        best = min(best, time.perf_counter() - start)
+    best = best_mujoco_run(mujoco, model, data, reset, steps, repeats)
     assert np.allclose(data.qpos, final, rtol=0, atol=1e-12), "MuJoCo not deterministic?"
 
     r = quat_to_matrix(qs)
@@ -140,6 +141,17 @@ def run_mujoco(mujoco, steps, repeats):
     }
 
 
+def compiled_top(mj):
+    """(m, s, A, C) of the compiled body of a MuJoCo run: its centre of mass s below the
+    sphere's centre on the body z axis, its inertia about it diagonal and symmetric."""
+    inertia = mj["inertia"]
+    mass, s = mj["mass"], -float(mj["com"][2])
+    big_c, big_a = float(inertia[2, 2]), float(inertia[0, 0])
+    assert np.allclose(mj["com"][:2], 0.0) and abs(inertia[1, 1] - big_a) < 1e-12 * big_a
+    assert np.allclose(inertia - np.diag(np.diag(inertia)), 0.0, atol=1e-20)
+    return mass, s, big_a, big_c
+
+
 def run_kreisel(mass, s, big_a, big_c, t_end, repeats):
     top = kreisel.PlayTop(
         m=mass, A=big_a, C=big_c, s=s, rho=RHO, g=G, friction=kreisel.Coulomb(mu=MU)
@@ -150,11 +162,7 @@ def run_kreisel(mass, s, big_a, big_c, t_end, repeats):
     assert min(np.abs(q - [0, 1, 0, 0]).max(), np.abs(q + [0, 1, 0, 0]).max()) < 1e-15, q
     np.testing.assert_allclose(state.omega, [0.0, -1.0, -200.0], atol=1e-13)
     np.testing.assert_allclose(state.com, [0.0, 0.0, RHO - s], atol=1e-17)
-    best, traj = math.inf, None
-    for _ in range(repeats):
-        start = time.perf_counter()
-        traj = kreisel.simulate(top, state, t_end)
-        best = min(best, time.perf_counter() - start)
+    best, traj = best_of(lambda: kreisel.simulate(top, state, t_end), repeats)
     return traj, best
 
 
@@ -167,11 +175,7 @@ def main(argv=None):
     steps = round(args.t_end / DT)
     t_end = steps * DT
     mj = run_mujoco(mujoco, steps, args.repeats)
-    inertia = mj["inertia"]
-    mass, s = mj["mass"], -float(mj["com"][2])
-    big_c, big_a = float(inertia[2, 2]), float(inertia[0, 0])
-    assert np.allclose(mj["com"][:2], 0.0) and abs(inertia[1, 1] - big_a) < 1e-12 * big_a
-    assert np.allclose(inertia - np.diag(np.diag(inertia)), 0.0, atol=1e-20)
+    mass, s, big_a, big_c = compiled_top(mj)
     compiled = {"m": mass, "s": s, "C": big_c, "A": big_a}
     for key, value in DOCUMENTED.items():
         assert abs(compiled[key] - value) <= 1e-5 * value, (key, compiled[key], value)
@@ -236,9 +240,7 @@ def main(argv=None):
         "ratio_kreisel_over_mujoco": k_sec / mj["seconds"],
         "kreisel_events": [{"name": n, "t": t} for n, t in events],
     }
-    OUT.write_text(json.dumps(result, indent=2, allow_nan=True) + "\n")
-    print(f"wrote {OUT}")
-    return result
+    return write_results(OUT, result)
 
 
 if __name__ == "__main__":

@@ -26,18 +26,34 @@ says so and exits 0.
 
 from __future__ import annotations
 
-import json
 import math
 import os
 import pathlib
 import sys
-import time
 
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 import numpy as np
-from _common import cpu_counters, mujoco_or_none, repeats_and_t_end, steal_share
-from bench_tippe_mujoco import DT, LEVEL, OMEGA_BODY, RHO, G, compiled_body, first_above
+from _common import (
+    best_mujoco_run,
+    best_of,
+    cpu_counters,
+    mujoco_or_none,
+    print_table,
+    repeats_and_t_end,
+    steal_share,
+    write_results,
+)
+from bench_tippe_mujoco import (
+    DT,
+    LEVEL,
+    OMEGA_BODY,
+    RHO,
+    G,
+    compiled_body,
+    compiled_top,
+    first_above,
+)
 
 import kreisel
 from kreisel.shapes import Sphere
@@ -101,12 +117,7 @@ def run_mujoco(mujoco, steps, repeats):
         contact[k] = touching()
         up[k] = data.xmat[model.body("top").id][8]  # body z (the stem) . ez
     up[0] = 1.0
-    best = math.inf
-    for _ in range(repeats):
-        reset()
-        start = time.perf_counter()
-        mujoco.mj_step(model, data, nstep=steps)
-        best = min(best, time.perf_counter() - start)
+    best = best_mujoco_run(mujoco, model, data, reset, steps, repeats)
     t = np.arange(steps + 1) * DT
     return {
         "mass": mass,
@@ -128,12 +139,14 @@ def run_kreisel(mass, s, big_a, big_c, t_end, repeats, rtol):
         shape=[Sphere(RHO, z=-s, name="ball"), Sphere(STEM_R, z=-(s + STEM_END), name="stem")],
     )  # fmt: skip
     state = top.state(math.pi, phi=math.pi / 2, psi=math.pi / 2, theta_dot=1.0, psi_dot=-200.0)
-    best, traj = math.inf, None
-    for _ in range(repeats):
-        start = time.perf_counter()
-        traj = kreisel.simulate(top, state, t_end, rtol=rtol, atol=rtol * 1e-2)
-        best = min(best, time.perf_counter() - start)
+    best, traj = best_of(
+        lambda: kreisel.simulate(top, state, t_end, rtol=rtol, atol=rtol * 1e-2), repeats
+    )
     return traj, best
+
+
+def millijoules(energies):
+    return [1e3 * e for e in energies]
 
 
 def first_true(t, flags):
@@ -151,9 +164,7 @@ def main(argv=None):
     t_end = steps * DT
     cpu0 = cpu_counters()
     mj = run_mujoco(mujoco, steps, args.repeats)
-    inertia = mj["inertia"]
-    mass, s = mj["mass"], -float(mj["com"][2])
-    big_c, big_a = float(inertia[2, 2]), float(inertia[0, 0])
+    mass, s, big_a, big_c = compiled_top(mj)
     runs = [(rtol, *run_kreisel(mass, s, big_a, big_c, t_end, args.repeats, rtol))
             for rtol in RTOLS]  # fmt: skip
     steal = steal_share(cpu0, cpu_counters())
@@ -191,16 +202,16 @@ def main(argv=None):
         f"{TORSION} m (kreisel: patch R = {PATCH:.4g} m)"
     )
     print(f"t = [0, {t_end:g}] s, best of {args.repeats}; steal time {steal}")
-    head = f"{'implementation':<28} {'seconds':>9} {'steps':>7} {'stem at s':>10} {'ends on':>8}"
-    print(head + f" {'t(u>0.9)':>9} {'max dE':>10} {'E0 -> E1 (mJ)':>16}")
-    for r in rows:
-        e0, e1 = r["energy_J"]
-        print(
-            f"{r['name']:<28} {r['seconds']:>9.4f} {r['steps']:>7d} "
-            f"{r['stem_first_touches_s']:>10.4f} {'stem' if r['ends_on_stem'] else 'no':>8} "
-            f"{r['t_u_above_0.9']:>9.4f} {r['largest_energy_rise_J']:>10.2e} "
-            f"{1e3 * e0:>7.3f} -> {1e3 * e1:.3f}"
-        )
+    print_table(rows, [
+        ("implementation", 28, lambda r: r["name"]),
+        ("seconds", 9, lambda r: f"{r['seconds']:.4f}"),
+        ("steps", 7, lambda r: f"{r['steps']:d}"),
+        ("stem at s", 10, lambda r: f"{r['stem_first_touches_s']:.4f}"),
+        ("ends on", 8, lambda r: "stem" if r["ends_on_stem"] else "no"),
+        ("t(u>0.9)", 9, lambda r: f"{r['t_u_above_0.9']:.4f}"),
+        ("max dE", 10, lambda r: f"{r['largest_energy_rise_J']:.2e}"),
+        ("E0 -> E1 (mJ)", 18, lambda r: "{:.3f} -> {:.3f}".format(*millijoules(r["energy_J"]))),
+    ])  # fmt: skip
     counts = {r["name"]: r["events"] for r in rows[1:]}
     print(f"kreisel contact events per tolerance (the same count: the same story): {counts}")
     for name, ratio in ratios.items():
@@ -227,9 +238,7 @@ def main(argv=None):
         "runs": rows,
         "ratio_mujoco_over_kreisel": ratios,
     }
-    OUT.write_text(json.dumps(result, indent=2, allow_nan=True) + "\n")
-    print(f"wrote {OUT}")
-    return result
+    return write_results(OUT, result)
 
 
 if __name__ == "__main__":

@@ -556,10 +556,10 @@ impl PlayTop {
     }
 
     /// A redundant system of sticking parts (two parts fix more than the body's freedoms,
-    /// and the forces along the line between them are statically indeterminate): of its
-    /// solutions, which all move the body alike, the one whose smallest friction margin
-    /// ([`Self::stick_margin`]) is largest, so the parts stick wherever some split of the
-    /// forces lets them. The margins are concave in the forces, their minimum too: a direct
+    /// and the forces along the line between them are statically indeterminate): where the
+    /// least-norm split leaves a part outside its cone, of the solutions, which all move the
+    /// body alike, the one whose smallest friction margin ([`Self::stick_margin`]) is
+    /// largest, so the parts stick wherever some split of the forces lets them. The margins are concave in the forces, their minimum too: a direct
     /// search (Nelder and Mead) over the null space from the least-norm solution finds it.
     fn most_margin<const U: usize>(&self, sys: &mut System<U>, what: &[Unknown; U]) {
         let n = sys.n;
@@ -593,8 +593,11 @@ impl PlayTop {
             }
             x
         };
+        // Where the least-norm split already holds every part, it is kept: the search is
+        // for the splits that hold where that one does not (the margins then jump, but only
+        // between positive values, so no event sees a false zero).
         let start = worst(&x0);
-        if !start.is_finite() {
+        if !start.is_finite() || start >= 0.0 {
             return;
         }
         // The simplex: the least-norm point and a step along each null vector, a tenth of
@@ -1137,12 +1140,9 @@ mod tests {
     }
 
     /// Two sticking parts whose tangential forces along x only appear as their sum (the
-    /// statically indeterminate split): normal forces 2 and 3 N, the sum T = 0.5 N, mu = 0.3.
-    /// The split of largest smallest margin makes the margins equal, mu N0 - t0 = mu N1 - t1
-    /// with t0 + t1 = T: t0 = (T - mu (N1 - N0)) / 2 = 0.1 N, margins 0.5 N each (the
-    /// least-norm split, 0.25 N each, leaves part 0 a margin of 0.35 N only).
-    #[test]
-    fn an_indeterminate_split_takes_the_largest_smallest_margin() {
+    /// statically indeterminate split), mu = 0.3, normal forces `n0`, `n1`, the sum `t`:
+    /// (the least-norm split, the null space's dimension, the split `most_margin` takes).
+    fn split(n0: f64, n1: f64, t: f64) -> ([f64; MAXU], usize, [f64; MAXU]) {
         let top = ball(
             Friction::Coulomb { mu: 0.3 },
             &[Shape::Sphere {
@@ -1170,14 +1170,14 @@ mod tests {
             Unknown::StickT(1, 0),
             Unknown::StickT(1, 1),
         ];
-        // rows: N0 = 2, T0y = 0, N1 = 3, T1y = 0, T0x + T1x = 0.5 (twice: redundant)
+        // rows: N0 = n0, T0y = 0, N1 = n1, T1y = 0, T0x + T1x = t (twice: redundant)
         let rows: [(&[usize], f64); 6] = [
-            (&[0], 2.0),
+            (&[0], n0),
             (&[2], 0.0),
-            (&[3], 3.0),
+            (&[3], n1),
             (&[5], 0.0),
-            (&[1, 4], 0.5),
-            (&[1, 4], 0.5),
+            (&[1, 4], t),
+            (&[1, 4], t),
         ];
         for (c, kind) in kinds.into_iter().enumerate() {
             let (f, t) = unit(c);
@@ -1193,16 +1193,36 @@ mod tests {
         }
         sys.responses(|f, t| (f, t));
         sys.solve();
-        assert_eq!(sys.m, 1);
-        assert!((sys.x[1] - 0.25).abs() < 1e-14 && (sys.x[4] - 0.25).abs() < 1e-14);
+        let least_norm = sys.x;
         top.most_margin(&mut sys, &what);
-        let x = sys.x;
+        (least_norm, sys.m, sys.x)
+    }
+
+    /// Normal forces 1 and 3 N, the sum T = 1 N: the least-norm split, 0.5 N each, leaves
+    /// part 0 outside its cone (margin 0.3 - 0.5 N). The split of largest smallest margin
+    /// makes the margins equal, mu N0 - t0 = mu N1 - t1 with t0 + t1 = T: t0 = (T - mu (N1 -
+    /// N0)) / 2 = 0.2 N, margins 0.1 N each.
+    #[test]
+    fn an_indeterminate_split_takes_the_largest_smallest_margin() {
+        let (least_norm, m, x) = split(1.0, 3.0, 1.0);
+        assert_eq!(m, 1);
+        assert!((least_norm[1] - 0.5).abs() < 1e-14 && (least_norm[4] - 0.5).abs() < 1e-14);
         assert!(
-            (x[1] - 0.1).abs() < 1e-9 && (x[4] - 0.4).abs() < 1e-9,
+            (x[1] - 0.2).abs() < 1e-9 && (x[4] - 0.8).abs() < 1e-9,
             "{x:?}"
         );
-        assert!((x[0] - 2.0).abs() < 1e-12 && (x[3] - 3.0).abs() < 1e-12);
+        assert!((x[0] - 1.0).abs() < 1e-12 && (x[3] - 3.0).abs() < 1e-12);
         assert!(x[2].abs() < 1e-12 && x[5].abs() < 1e-12);
+    }
+
+    /// Normal forces 2 and 3 N, T = 0.5 N: the least-norm split (0.25 N each, margins 0.35
+    /// and 0.65 N) holds both parts and is kept (no search on such right-hand sides).
+    #[test]
+    fn a_split_that_holds_is_kept() {
+        let (least_norm, m, x) = split(2.0, 3.0, 0.5);
+        assert_eq!(m, 1);
+        assert!((least_norm[1] - 0.25).abs() < 1e-14 && (least_norm[4] - 0.25).abs() < 1e-14);
+        assert_eq!(x, least_norm);
     }
 
     /// One sphere under the several-part equations gives the one-sphere equations' right-hand

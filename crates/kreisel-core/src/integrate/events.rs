@@ -55,7 +55,7 @@ impl EventSpec {
         }
     }
 
-    fn matches(&self, g_old: f64, g_new: f64) -> bool {
+    pub(crate) fn matches(&self, g_old: f64, g_new: f64) -> bool {
         let rising = g_old < 0.0 && g_new >= 0.0;
         let falling = g_old > 0.0 && g_new <= 0.0;
         match self.direction {

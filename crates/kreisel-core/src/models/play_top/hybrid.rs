@@ -606,6 +606,12 @@ pub(crate) fn drive<H: Hybrid>(
     let mut fired = vec![false; settings.events.len()];
     // The top rests once its kinetic energy falls below this.
     let rest_level = REST * top.kinetic_energy(&y);
+    // The functions of the watched events (None: not watched by the play top).
+    let value = move |kind: EventKind, y: &[f64; DIM]| match kind {
+        EventKind::Inversion(level) => Some(top.mkin(y).e3[2] - level),
+        EventKind::Rest => Some(top.kinetic_energy(y) - rest_level),
+        _ => None,
+    };
     let mut first = true;
     let mut stopped = false;
     loop {
@@ -641,19 +647,13 @@ pub(crate) fn drive<H: Hybrid>(
         }
         let mut watched = Vec::with_capacity(settings.events.len());
         for (i, e) in settings.events.iter().enumerate() {
-            match e.kind {
-                EventKind::Inversion(level) if !fired[i] => {
-                    fns.push(Box::new(move |_t: f64, y: &[f64; DIM]| {
-                        top.mkin(y).e3[2] - level
-                    }));
-                }
-                EventKind::Rest => {
-                    fns.push(Box::new(move |_t: f64, y: &[f64; DIM]| {
-                        top.kinetic_energy(y) - rest_level
-                    }));
-                }
-                _ => continue,
+            if fired[i] || value(e.kind, &y).is_none() {
+                continue;
             }
+            let kind = e.kind;
+            fns.push(Box::new(move |_t: f64, y: &[f64; DIM]| {
+                value(kind, y).unwrap_or(0.0)
+            }));
             specs.push(EventSpec::new(e.direction, e.terminal));
             watched.push(i);
         }
@@ -727,7 +727,8 @@ pub(crate) fn drive<H: Hybrid>(
             break;
         };
         let before = h.row(&phase, &y).contacts.mode;
-        let ke_before = top.kinetic_energy(&y);
+        let g_before: Vec<Option<f64>> =
+            settings.events.iter().map(|e| value(e.kind, &y)).collect();
         phase = h.apply(switch, &phase, &mut y, settings.rtol);
         // Other parts that the switch lifted off, put down, stuck or set sliding at the same
         // instant (an impulse, or parts that stick jointly).
@@ -756,23 +757,26 @@ pub(crate) fn drive<H: Hybrid>(
         if settings.t_eval.is_none() {
             sink(t, &h.row(&phase, &y));
         }
-        // A switch that stops the top (the impulse or the projection that ends its last
-        // slip or drilling) is where it comes to rest: no later crossing would show it.
-        if ke_before >= rest_level && top.kinetic_energy(&y) < rest_level {
-            for (i, e) in settings.events.iter().enumerate() {
-                if matches!(e.kind, EventKind::Rest) {
-                    info.events.push(EventRecord {
-                        index: Some(i),
-                        name: e.name.clone().into(),
-                        t,
-                        part: None,
-                    });
-                    stopped |= e.terminal;
-                }
+        // A watched event whose function the switch carries across zero (an impulse or the
+        // projection that ends the last slip or drilling stops the top: rest) happens at
+        // the switch; no crossing in a later phase would show it.
+        for (i, e) in settings.events.iter().enumerate() {
+            let (Some(g0), Some(g1)) = (g_before[i], value(e.kind, &y)) else {
+                continue;
+            };
+            if !fired[i] && EventSpec::new(e.direction, e.terminal).matches(g0, g1) {
+                info.events.push(EventRecord {
+                    index: Some(i),
+                    name: e.name.clone().into(),
+                    t,
+                    part: None,
+                });
+                fired[i] = matches!(e.kind, EventKind::Inversion(_));
+                stopped |= e.terminal;
             }
-            if stopped {
-                break;
-            }
+        }
+        if stopped {
+            break;
         }
         if info.events.len() > MAX_SWITCHES {
             return Err(KreiselError::Numerical(format!(

@@ -121,14 +121,6 @@ def mjcf(dt, solref):
 """
 
 
-def steady_rates(top, alpha):
-    """(Omega, psi_dot) of the thick disk rolling with G at rest at inclination alpha."""
-    a, k = RADIUS, THICKNESS / (2 * RADIUS)
-    c, s = math.cos(alpha), math.sin(alpha)
-    omega = math.sqrt(top.m * G * a * (c - k * s) / (s * (top.A * c - top.C * k * s)))
-    return omega, -omega * (c - k * s)
-
-
 def lowest_point_offset(axis):
     """Vectors (n, 3) from G to the lowest point of the lower rim, axis (n, 3) the unit e3."""
     axis = np.atleast_2d(axis)
@@ -170,9 +162,9 @@ def slope(alpha, omega, window):
 
 
 def theory_slope(top, window):
-    """The slope of the steady law (steady_rates) over a window."""
+    """The slope of the steady law (bodies.disk_rolling_rates) over a window."""
     x = np.geomspace(*window, 50)
-    y = [steady_rates(top, math.asin(v))[0] for v in x]
+    y = [bodies.disk_rolling_rates(top, math.asin(v))[0] for v in x]
     return float(np.polyfit(np.log(x), np.log(y), 1)[0])
 
 
@@ -323,7 +315,7 @@ def main(argv=None):
     assert abs(mass - DENSITY * volume) < 1e-12 * mass, (mass, DENSITY * volume)
     np.testing.assert_allclose(np.diag(inertia), [top.A, top.A, top.C], rtol=1e-9)
     assert np.allclose(inertia - np.diag(np.diag(inertia)), 0.0, atol=1e-20)
-    omega0, psi_dot0 = steady_rates(top, ALPHA0)
+    omega0, psi_dot0 = bodies.disk_rolling_rates(top, ALPHA0)
     thin = math.sqrt(mass * G * RADIUS / (top.A * math.sin(ALPHA0)))
     state = top.state(ALPHA0, phi_dot=omega0, psi_dot=psi_dot0)
 

@@ -10,7 +10,7 @@ rolling with its centre at rest at 0.3 rad on its steady law.
 Left: the precession rate Omega (the turning rate of the axis about the vertical) against the
 inclination alpha, on log scales, with the steady law of the thick disk, Omega^2 sin(alpha)
 (A cos(alpha) - C k sin(alpha)) = m g a (cos(alpha) - k sin(alpha)), k = h / (2 a)
-(PHYSICS 4.5 at k = 0; derived in tests/test_shapes.py): as the disk settles it follows the
+(PHYSICS 4.5 at k = 0; kreisel.bodies.disk_rolling_rates): as the disk settles it follows the
 law, Omega ~ alpha^(-1/2) towards flat (Moffatt, Nature 404 (2000) 833). Right: alpha and
 the energy against time; the run ends with the event "flat" (sin(alpha) = 1e-4) at a finite
 time. Writes euler_disk.png.
@@ -24,21 +24,12 @@ from kreisel import bodies
 
 plt = pyplot()
 out = out_dir()
-a, h, m, g = 0.0375, 0.0125, 0.4335, 9.81
+a, h, m = 0.0375, 0.0125, 0.4335
 patch = 1e-4 * 16 / (3 * np.pi * 0.3)  # mu 3 pi R / 16 = 0.1 mm, as benchmark T4
 disk = bodies.disk(a, h, m, friction=kreisel.CoulombContensou(0.3, patch),
                    rolling_resistance=2e-4)  # fmt: skip
-k = h / (2 * a)
-
-
-def steady(alpha):
-    c, s = np.cos(alpha), np.sin(alpha)
-    return np.sqrt(m * g * a * (c - k * s) / (s * (disk.A * c - disk.C * k * s)))
-
-
 alpha0 = 0.3
-w0 = steady(alpha0)
-state = disk.state(theta=alpha0, phi_dot=w0, psi_dot=-w0 * (np.cos(alpha0) - k * np.sin(alpha0)))
+state = bodies.disk_rolling_state(disk, alpha0)
 run = kreisel.simulate(disk, state, 30.0, rtol=1e-8)
 flat = next(e.t for e in run.events if e.name == "flat")
 print(f"flat at {flat:.4f} s after {run.stats['steps']} steps")
@@ -54,7 +45,13 @@ alpha_turn = np.interp(0.5 * (t_turn[1:] + t_turn[:-1]), run.t, alpha)
 fig, (left, right) = plt.subplots(1, 2, figsize=(10, 4.2))
 left.loglog(alpha_turn, rate, ".", ms=3, label="kreisel, per turn of the axis")
 grid = np.geomspace(alpha_turn.min(), alpha0, 200)
-left.loglog(grid, steady(grid), color="k", lw=0.8, label="steady law of the thick disk")
+left.loglog(
+    grid,
+    [bodies.disk_rolling_rates(disk, x)[0] for x in grid],
+    color="k",
+    lw=0.8,
+    label="steady law of the thick disk",
+)
 left.set_xlabel("inclination alpha (rad)")
 left.set_ylabel("precession rate Omega (rad/s)")
 left.legend(loc="upper right")

@@ -290,3 +290,15 @@ def test_a_coin_rolls_on_a_circle_of_the_radius_of_its_closed_form(alpha, rho):
     np.testing.assert_allclose(np.linalg.norm(run.com_velocity, axis=1), abs(rho) * omega,
                                rtol=1e-8)  # fmt: skip
     np.testing.assert_allclose(run.part_normal_force[:, 0], m * g, rtol=1e-8)
+
+
+def test_disk_rolling_rates_refuse_what_does_not_roll_on_a_rim():
+    from kreisel import bodies
+
+    disk = bodies.disk(0.0375, 0.0125, 0.434)
+    for alpha in (0.0, 1.6, float("nan")):
+        with pytest.raises(ParameterError, match="alpha = .* is not allowed"):
+            bodies.disk_rolling_rates(disk, alpha)
+    ball = PlayTop(6e-3, 8e-7, 7e-7, shape=[Sphere(0.015, -0.003)])
+    with pytest.raises(ParameterError, match="no Torus part of minor = 0"):
+        bodies.disk_rolling_state(ball, 0.3)

@@ -68,17 +68,12 @@ def _body_table(top) -> dict:
 
 
 def _disk_preset(name, summary, radius, thickness, mass, rolling) -> Preset:
-    """A disk started on its rolling with the centre at rest at 0.3 rad. With k = h / (2 a),
-    rolling with G at rest needs omega along G to the lower rim's lowest point, psi_dot =
-    -Omega (cos(alpha) - k sin(alpha)), and the gravity torque turns L when Omega^2
-    sin(alpha) (A cos(alpha) - C k sin(alpha)) = m g a (cos(alpha) - k sin(alpha)) (PHYSICS 4.5
-    at k = 0; tests/test_shapes.py checks that the thick disk stays on it)."""
+    """A disk started on its rolling with the centre at rest at 0.3 rad
+    (kreisel.bodies.disk_rolling_rates)."""
     top = bodies.disk(radius, thickness, mass, rolling_resistance=rolling)
-    alpha, k = 0.3, thickness / (2 * radius)
-    c, s = math.cos(alpha), math.sin(alpha)
-    omega = math.sqrt(mass * 9.81 * radius * (c - k * s) / (s * (top.A * c - top.C * k * s)))
+    omega, psi_dot = bodies.disk_rolling_rates(top, 0.3)
     return Preset(name, summary, _body_table(top),
-                  {"theta": alpha, "phi_dot": omega, "psi_dot": -omega * (c - k * s)},
+                  {"theta": 0.3, "phi_dot": omega, "psi_dot": psi_dot},
                   {"t_end": 3.0, "rtol": 1e-8, "samples": 3001})  # fmt: skip
 
 

@@ -10,13 +10,15 @@ import math
 from typing import Any, NamedTuple, Union
 
 from ._errors import ParameterError
-from ._play import Coulomb, CoulombContensou, Frictionless, PlayTop, Viscous
+from ._play import Coulomb, CoulombContensou, Frictionless, PlayState, PlayTop, Viscous
 from ._validate import real
 from .shapes import Part, Sphere, Spheroid, Torus
 
 __all__ = [
     "EggThresholds",
     "disk",
+    "disk_rolling_rates",
+    "disk_rolling_state",
     "egg",
     "egg_rising_thresholds",
     "egg_settled_inclination",
@@ -90,6 +92,62 @@ def disk(
     return PlayTop(m, m * (3 * a * a + h * h) / 12, m * a * a / 2,
                    shape=[Torus(a, 0.0, h / 2, "upper_rim"), Torus(a, 0.0, -h / 2, "lower_rim")],
                    friction=friction, **kwargs)  # fmt: skip
+
+
+def disk_rolling_rates(top: PlayTop, alpha: float) -> tuple[float, float]:
+    """``(Omega, psi_dot)`` (rad/s) of a disk (a top whose lowest part is a sharp rim
+    ``Torus(a, 0, z)``, such as :func:`disk`'s lower rim) rolling on that rim with its centre
+    of mass at rest, its axis at ``alpha`` rad from the vertical: Euler's disk's steady
+    motion, the precession rate Omega (``phi_dot``) and the spin ``psi_dot``. Rolling with G
+    at rest needs omega along G -> T (T the rim's lowest point), ``psi_dot = -Omega
+    (cos(alpha) - k sin(alpha))`` with ``k = -z / a``, and the gravity torque turns L when
+
+        Omega^2 sin(alpha) (A cos(alpha) - C k sin(alpha)) = m g a (cos(alpha) - k sin(alpha))
+
+    (PHYSICS 4.5, ``Omega^2 sin(alpha) = m g a / A``, at k = 0; derived in
+    ``tests/test_shapes.py``, which checks that a disk started on it stays there).
+    :func:`disk_rolling_state` is the state.
+
+    Examples
+    --------
+    >>> from kreisel import bodies
+    >>> d = bodies.disk(0.0375, 0.0125, 0.434)
+    >>> [round(w, 3) for w in bodies.disk_rolling_rates(d, 0.3)]
+    [59.966, -54.334]
+    """
+    rims = [p for p in top.shape if isinstance(p, Torus) and p.minor == 0.0]
+    if not rims:
+        raise ParameterError(
+            f"top = {top!r} is not allowed: its steady rolling is that of a disk on a sharp "
+            "rim, and it has no Torus part of minor = 0"
+        )
+    rim = min(rims, key=lambda p: p.z)
+    a, k = rim.major, -rim.z / rim.major
+    x = real("alpha", alpha)
+    c, s = math.cos(x), math.sin(x)
+    if not (0.0 < x < math.pi / 2 and c - k * s > 0.0 and top.A * c - top.C * k * s > 0.0):
+        raise ParameterError(
+            f"alpha = {x!r} is not allowed: the disk rolls on its rim for 0 < alpha < pi/2 "
+            f"with cos(alpha) > k sin(alpha) and A cos(alpha) > C k sin(alpha) (k = {k:.6g})"
+        )
+    omega = math.sqrt(top.m * top.g * a * (c - k * s) / (s * (top.A * c - top.C * k * s)))
+    return omega, -omega * (c - k * s)
+
+
+def disk_rolling_state(top: PlayTop, alpha: float) -> PlayState:
+    """The state of :func:`disk_rolling_rates`' steady rolling at ``alpha``: on the floor,
+    G at rest.
+
+    Examples
+    --------
+    >>> from kreisel import bodies
+    >>> d = bodies.disk(0.0375, 0.0125, 0.434)
+    >>> st = bodies.disk_rolling_state(d, 0.3)
+    >>> [round(float(w), 4) for w in st.omega]  # body frame: n = Omega k sin(alpha) on e3
+    [0.0, 17.7212, 2.9535]
+    """
+    omega, psi_dot = disk_rolling_rates(top, alpha)
+    return top.state(theta=float(alpha), phi_dot=omega, psi_dot=psi_dot)
 
 
 def toy_top(

@@ -529,7 +529,9 @@ def check_impact(top: ref.Top, traj, restitution: float, frictionless: bool):
     assert vt_b[2] < 0.0
     assert vt_a[2] == pytest.approx(-restitution * vt_b[2], abs=1e-9 * abs(vt_b[2]))
     np.testing.assert_allclose(traj.quaternion[a], traj.quaternion[b], rtol=0, atol=1e-14)
-    np.testing.assert_allclose(traj.com[a], traj.com[b], rtol=0, atol=1e-15)
+    # the touchdown is located a hair below the floor (1e-12 of the reach, so that the event
+    # is seen however short the flight) and the impact puts G back on the floor
+    np.testing.assert_allclose(traj.com[a], traj.com[b], rtol=0, atol=1.5e-12 * (top.s + top.rho))
     # one impulse P at the contact point: m dv = P, dL = a x P
     imp = top.m * (traj.com_velocity[a] - traj.com_velocity[b])
     e3 = ref.quat_matrix(traj.quaternion[b])[:, 2]

@@ -91,8 +91,11 @@ impl PlayTop {
 
     /// Whether sliding at a contact state is in the Painleve case: its own coefficient at or
     /// below [`PlayTop::jam_level`] while a top that may jam ([`PlayTop::may_jam`]) slides.
+    /// Under viscous friction no bound holds (the friction per unit N grows with the slip),
+    /// so the coefficient is always looked at.
     fn jammed(&self, y: &[f64; DIM], dir: [f64; 3]) -> bool {
-        self.may_jam(-self.s, self.rho) && self.slip_coefficient(y, dir) <= self.jam_level()
+        (self.may_jam(-self.s, self.rho) || matches!(self.friction, Friction::Viscous { .. }))
+            && self.slip_coefficient(y, dir) <= self.jam_level()
     }
 
     /// The mode a state starts in.
@@ -142,7 +145,7 @@ impl PlayTop {
                 let c = self.dynamics(Mode::Roll, y, phase.dir, &mut dy);
                 mu * c.n - (c.ft[0] * c.ft[0] + c.ft[1] * c.ft[1]).sqrt()
             }
-            Switch::Touchdown => self.height(y),
+            Switch::Touchdown => self.height(y) + self.touchdown_offset(),
             Switch::Jam => self.slip_coefficient(y, phase.dir) - self.jam_level(),
         }
     }
@@ -257,7 +260,10 @@ impl PlayTop {
             Switch::Jam => {
                 // The tangential impact: an impulse that stops the slip, sticking if the
                 // cone allows, else sliding until the slip along its direction is gone.
-                let (yi, sticks) = self.multi_impact(y, 1, [0.0; 4]);
+                let (yi, sticks) = match self.viscous_impact(y, 0) {
+                    Some(yi) => (yi, 0),
+                    None => self.multi_impact(y, 1, [0.0; 4]),
+                };
                 *y = yi;
                 mode = if sticks != 0 && self.roll_admissible(y).0 {
                     Mode::Roll
@@ -279,15 +285,9 @@ impl PlayTop {
                 let (yi, sticks) = self.impact(y);
                 *y = yi;
                 let vn = self.kin(y).v_t[2];
-                hop = if self.g > 0.0 {
-                    2.0 * vn / self.g
-                } else {
-                    f64::INFINITY
-                };
-                // Flights shorter than a millionth of the free-fall time through the tip's
-                // radius are below what the events resolve: such a bounce is absorbed.
-                let tiny = 1e-6 * (self.rho / self.g.max(1e-300)).sqrt();
-                let bounce = vn > 0.0 && hop > tiny;
+                let flies = self.bounce(0, y, vn);
+                hop = flies.unwrap_or(f64::INFINITY);
+                let bounce = flies.is_some();
                 let mut sticks = sticks;
                 if !bounce && vn > 0.0 {
                     let (yp, s2) = self.impact_with(y, 0.0);

@@ -237,18 +237,13 @@ impl<'a> Multi<'a> {
             top.resolve(y, cand, prev, eps)
         };
         let k = top.mkin(y);
-        // The fastest separating part's flight, for the step limit; a separation slower than
-        // the bounces that are absorbed (a round-off velocity) limits nothing.
-        let tiny = 1e-6 * (top.reach() / top.g.max(1e-300)).sqrt();
+        // The shortest separating part's flight, for the step limit; a separation below the
+        // bounce cut-off (a round-off velocity) limits nothing.
         let mut hop = f64::INFINITY;
         for i in 0..top.parts.n {
-            let p = &top.parts.shape[i];
-            let vn = p.gap_rate(k.v[2], k.w, k.e3);
-            if contacts.mode[i] == Mode::Flight && vn > 0.0 && top.g > 0.0 {
-                let flight = 2.0 * vn / top.g;
-                if flight > tiny {
-                    hop = hop.min(flight);
-                }
+            let vn = top.parts.shape[i].gap_rate(k.v[2], k.w, k.e3);
+            if contacts.mode[i] == Mode::Flight {
+                hop = hop.min(top.bounce(i, y, vn).unwrap_or(f64::INFINITY));
             }
         }
         top.multi_project(&contacts, y);
@@ -332,11 +327,9 @@ impl Hybrid for Multi<'_> {
         let forces = || self.forces(&phase.contacts, y);
         match sw {
             MSwitch::Touchdown(i) => {
-                // Located a hair below the floor (1e-9 of the reach): a part released at zero
-                // gap starts at the floor up to rounding, and its touchdown must still be seen
-                // as a sign change when it closes again.
+                // Located a hair below the floor ([`PlayTop::touchdown_offset`]).
                 let k = top.mkin(y);
-                top.parts.shape[i].gap(k.zg, k.e3) + 1e-9 * top.reach()
+                top.parts.shape[i].gap(k.zg, k.e3) + top.touchdown_offset()
             }
             MSwitch::LiftOff(i) => forces().n[i],
             MSwitch::SlipToRoll(i) => {
@@ -387,22 +380,22 @@ impl Hybrid for Multi<'_> {
                 let k = top.mkin(y);
                 let vn = top.parts.shape[i].gap_rate(k.v[2], k.w, k.e3);
                 target[i] = -top.restitution * vn;
-                // Flights shorter than a millionth of the free-fall time through the top's
-                // reach are below what the events resolve: such a bounce is absorbed.
-                let tiny = 1e-6 * (top.reach() / top.g.max(1e-300)).sqrt();
-                if top.g > 0.0 && 2.0 * target[i] / top.g <= tiny {
+                // A bounce below the cut-off is absorbed ([`PlayTop::bounce_height`]).
+                if top.bounce(i, y, target[i]).is_none() {
                     target[i] = 0.0;
                 }
                 let (yi, _) = top.multi_impact(y, set, target);
-                // A part the impact lifts off so slowly that it would be back within `tiny`
-                // (a rocking between two parts whose period shrinks to zero, as a rocking
-                // block's does) stays on the floor: the impact is taken again with it kept.
+                // A part the impact lifts off so slowly that it would be back within a
+                // thousandth of the free-fall time through the reach (a rocking between two
+                // parts whose period shrinks to zero, as a rocking block's does) stays on the
+                // floor: the impact is taken again with it kept.
+                let rock = 1e-3 * (top.reach() / top.g.max(1e-300)).sqrt();
                 let k1 = top.mkin(&yi);
                 let mut keep = 0u8;
                 for j in 0..n {
                     if set & (1 << j) != 0 && j != i {
                         let vj = top.parts.shape[j].gap_rate(k1.v[2], k1.w, k1.e3);
-                        if vj > 0.0 && top.g > 0.0 && 2.0 * vj / top.g <= 1e3 * tiny {
+                        if vj > 0.0 && top.g > 0.0 && 2.0 * vj / top.g <= rock {
                             keep |= 1 << j;
                         }
                     }

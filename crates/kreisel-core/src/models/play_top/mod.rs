@@ -452,6 +452,45 @@ impl PlayTop {
             && !matches!(self.friction, Friction::CoulombContensou { .. })
     }
 
+    /// How far below the floor a part's touchdown is located (m): 1e-12 of the top's reach
+    /// (the gap's rounding is about 1e-16 of it). A part that leaves the floor starts its
+    /// flight at a gap of zero up to rounding; its touchdown event watches
+    /// `gap + touchdown_offset`, which then starts positive, so the sign change of its return
+    /// is seen however short the flight (an event function that starts at zero or below
+    /// never changes sign downward, and the part would fall through the floor unseen). The
+    /// impact puts the located state back on the floor.
+    pub fn touchdown_offset(&self) -> f64 {
+        1e-12 * self.parts.reach()
+    }
+
+    /// The bounce cut-off (m): a part that an impact sends up by less than this (its rise
+    /// `vn^2 / 2a` under the gap's free deceleration `a`) stays on the floor (the impact is
+    /// taken again without restitution). 1e-10 of the top's reach, a hundred times the
+    /// [`PlayTop::touchdown_offset`]: every impact is located that far below the floor and
+    /// lifted onto it, so without a cut-off a bouncing part's rise would settle at
+    /// `e^2 / (1 - e^2)` offsets instead of shrinking to zero (a Zeno sequence of ever shorter
+    /// flights, then chattering for ever). With it, bounces that shrink geometrically end
+    /// in finite time, after about `ln(h0 / cut-off) / ln(1 / e^2)` of them, in persistent
+    /// contact.
+    pub fn bounce_height(&self) -> f64 {
+        100.0 * self.touchdown_offset()
+    }
+
+    /// Whether part `i`, whose material point leaves the floor at the normal speed `vn` after
+    /// an impact at state `y`, bounces: None where it stays (the bounce is below
+    /// [`PlayTop::bounce_height`]); else its expected flight time (infinite where the free
+    /// motion itself lifts it off).
+    pub fn bounce(&self, i: usize, y: &[f64; DIM], vn: f64) -> Option<f64> {
+        if vn <= 0.0 {
+            return None;
+        }
+        let a = -self.free_gap_acceleration(i, y);
+        if a <= 0.0 {
+            return Some(f64::INFINITY);
+        }
+        (vn * vn / (2.0 * a) > self.bounce_height()).then(|| 2.0 * vn / a)
+    }
+
     /// alpha = s / rho.
     pub fn alpha(&self) -> f64 {
         self.s / self.rho

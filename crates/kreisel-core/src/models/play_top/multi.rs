@@ -675,6 +675,13 @@ impl PlayTop {
         dy[12] + dot(wd, cross(p.arm(k.e3), EZ)) + p.gap_bias(k.w, k.e3)
     }
 
+    /// The gap's acceleration of part `i` in free flight (no contact force) at `y`.
+    pub fn free_gap_acceleration(&self, i: usize, y: &[f64; DIM]) -> f64 {
+        let mut dy = [0.0; DIM];
+        self.multi_dynamics(&Contacts::NONE, y, &mut dy);
+        self.gap_acceleration(i, y, &dy)
+    }
+
     /// Whether the friction a sticking part needs lies in its cone (Coulomb) or ellipse
     /// (Coulomb-Contensou), with a pushing normal force.
     pub fn stick_margin(&self, f: &Forces, i: usize) -> f64 {
@@ -726,8 +733,19 @@ impl PlayTop {
         // No set is consistent (the Painleve case: sliding would need the floor to pull while
         // the contact is pressed into it): a tangential impact, the impulse that stops the
         // candidates' slip, then the modes again.
-        let (yi, _) = self.multi_impact(y, cand, [0.0; MAX_PARTS]);
-        *y = yi;
+        if matches!(self.friction, Friction::Viscous { .. }) {
+            // Viscous friction: each candidate's slip decays through its own impact.
+            for i in 0..self.parts.n {
+                if cand & (1 << i) != 0 {
+                    if let Some(yi) = self.viscous_impact(y, i) {
+                        *y = yi;
+                    }
+                }
+            }
+        } else {
+            let (yi, _) = self.multi_impact(y, cand, [0.0; MAX_PARTS]);
+            *y = yi;
+        }
         let c = self.resolve_at(y, cand, prev, eps).unwrap_or_else(|| {
             let mut c = Contacts::NONE;
             for i in 0..self.parts.n {
@@ -924,6 +942,81 @@ impl PlayTop {
         y[13] += (before - self.kinetic_energy(y)).max(0.0);
     }
 
+    /// The tangential impact of a part jammed under viscous friction (the Painleve case of
+    /// a viscous law: sliding fast enough that the friction's lever makes sliding's own
+    /// coefficient negative, so that neither sliding nor flight is consistent). The impact is
+    /// integrated in the normal impulse `lambda` (Darboux-Keller): the impulse grows as
+    /// `dP = (ez - mu v_t) dlambda` (the viscous law `F_t = -mu N v_t` at every instant of
+    /// the impact), the contact point's velocity as `dv = K dP` with `K` the contact's
+    /// inverse effective mass. The normal velocity first falls (compression) while the slip
+    /// decays; the impact ends when it is back to zero (no rebound), with sliding consistent
+    /// again. Returns the state after the impulse (the kinetic energy it takes added to the
+    /// dissipated energy), or None where the law is not viscous or the process does not end.
+    pub fn viscous_impact(&self, y: &[f64; DIM], i: usize) -> Option<[f64; DIM]> {
+        let Friction::Viscous { mu } = self.friction else {
+            return None;
+        };
+        let k = self.mkin(y);
+        let arm = self.part(i).arm(k.e3);
+        // K: the contact point's velocity change per unit impulse (columns).
+        let col = |e: [f64; 3]| {
+            let (dv, dw) = self.response(&k, e, cross(arm, e));
+            add(dv, cross(dw, arm))
+        };
+        let kc = [col(EX), col(EY), col(EZ)];
+        let kmul = |p: [f64; 3]| add(add(scale(p[0], kc[0]), scale(p[1], kc[1])), scale(p[2], kc[2]));
+        let v0 = self.part(i).point_velocity(k.v, k.w, k.e3);
+        let slope = |v: [f64; 3]| [-mu * v[0], -mu * v[1], 1.0];
+        // Steps in lambda small against the slip's decay rate mu |K| and the velocity's scale.
+        let knorm = kc.iter().map(|c| dot(*c, *c).sqrt()).fold(0.0, f64::max);
+        if knorm <= 0.0 || mu <= 0.0 {
+            return None;
+        }
+        let vs = self.multi_speed_scale(y);
+        let h_max = 0.02 / (mu * knorm);
+        let mut h = h_max.min(1e-3 * vs / knorm);
+        let (mut v, mut p) = (v0, ZERO);
+        let mut compressed = false;
+        for _ in 0..200_000 {
+            // RK4 on dv/dlambda = K slope(v), dP/dlambda = slope(v).
+            let s1 = slope(v);
+            let s2 = slope(add(v, scale(0.5 * h, kmul(s1))));
+            let s3 = slope(add(v, scale(0.5 * h, kmul(s2))));
+            let s4 = slope(add(v, scale(h, kmul(s3))));
+            let dp = scale(h / 6.0, add(add(s1, scale(2.0, s2)), add(scale(2.0, s3), s4)));
+            let vn = add(v, kmul(dp));
+            if compressed && vn[2] >= 0.0 {
+                // The end of the impact inside this step: the fraction of it that brings the
+                // normal velocity back to zero (linear in the step).
+                let f = if vn[2] > v[2] { -v[2] / (vn[2] - v[2]) } else { 1.0 };
+                p = add(p, scale(f.clamp(0.0, 1.0), dp));
+                let mut out = *y;
+                let torque = cross(arm, p);
+                let (dv, dw) = self.response(&k, p, torque);
+                let dwb = k.to_body(dw);
+                for ax in 0..3 {
+                    out[4 + ax] += dwb[ax];
+                    out[10 + ax] += dv[ax];
+                }
+                let loss = self.kinetic_energy(y) - self.kinetic_energy(&out);
+                if loss < -1e-12 * self.kinetic_energy(y) {
+                    return None;
+                }
+                out[13] += loss.max(0.0);
+                return Some(out);
+            }
+            if !compressed && vn[2] >= v[2] {
+                // Not jammed: the normal velocity rises at once, no impact is needed.
+                return None;
+            }
+            compressed |= vn[2] < 0.0;
+            v = vn;
+            p = add(p, dp);
+            h = (h * 1.02).min(h_max);
+        }
+        None
+    }
+
     /// The impulses at the parts of `set` (bit mask) that make their material points'
     /// velocities what `target` gives (normal: the target normal velocity; tangential:
     /// zero where the part sticks), each part sticking, sliding against its slip (a Coulomb
@@ -942,6 +1035,12 @@ impl PlayTop {
 
     /// [`Self::multi_impact`] where the parts of `keep` (bit mask) take an impulse (they may
     /// not separate).
+    ///
+    /// Where no choice is consistent with the targets (a part striking the floor while
+    /// another rests on it: restitution at the one may need the other to pull), the impact
+    /// is taken without restitution, and where that too fails, also without friction: the
+    /// frictionless plastic impact always has a consistent choice (its impulses solve a
+    /// linear complementarity problem with a positive semi-definite matrix) and takes energy.
     pub fn multi_impact_keeping(
         &self,
         y: &[f64; DIM],
@@ -949,10 +1048,27 @@ impl PlayTop {
         target: [f64; MAX_PARTS],
         keep: u8,
     ) -> ([f64; DIM], u8) {
+        let plastic = target.map(|t| t.min(0.0));
+        self.impact_search(y, set, target, keep, true)
+            .or_else(|| self.impact_search(y, set, plastic, keep, true))
+            .or_else(|| self.impact_search(y, set, plastic, keep, false))
+            .unwrap_or((*y, 0))
+    }
+
+    /// [`Self::multi_impact_keeping`] with one set of targets, with or without friction:
+    /// None where no choice is consistent.
+    fn impact_search(
+        &self,
+        y: &[f64; DIM],
+        set: u8,
+        target: [f64; MAX_PARTS],
+        keep: u8,
+        friction: bool,
+    ) -> Option<([f64; DIM], u8)> {
         let n = self.parts.n;
         let k = self.mkin(y);
         let parts: Vec<usize> = (0..n).filter(|i| set & (1 << i) != 0).collect();
-        let mu = if self.friction.can_stick() {
+        let mu = if friction && self.friction.can_stick() {
             self.friction.mu()
         } else {
             0.0
@@ -1072,10 +1188,10 @@ impl PlayTop {
                     _ => after[2] >= target[i].min(0.0) - tol_v,
                 }
             });
+            let loss = ke - self.kinetic_energy(&out);
             if !ok {
                 continue;
             }
-            let loss = ke - self.kinetic_energy(&out);
             if loss < -1e-12 * ke {
                 continue;
             }
@@ -1084,9 +1200,9 @@ impl PlayTop {
                 .iter()
                 .zip(&combo)
                 .fold(0u8, |acc, (&i, &ch)| acc | (u8::from(ch == 0) << i));
-            return (out, sticks);
+            return Some((out, sticks));
         }
-        (*y, 0)
+        None
     }
 }
 

@@ -231,7 +231,14 @@ impl<'a> Multi<'a> {
         let vscale = top.multi_speed_scale(y);
         let cand = top.touching(y, 1e-9 * l, 1e-9 * vscale);
         let eps = self.tolerance(y, rtol);
-        let contacts = if cand == 0 {
+        // A ring that comes down flat and does not bounce lies flat.
+        let flat = top.lying_flat(y, 1e-9 * l).filter(|&i| cand & (1 << i) != 0);
+        let contacts = if let Some(i) = flat {
+            top.flat_contacts(
+                i,
+                top.friction.can_stick() && top.flat_slide(i, y) <= eps,
+            )
+        } else if cand == 0 {
             Contacts::NONE
         } else {
             top.resolve(y, cand, prev, eps)
@@ -260,6 +267,19 @@ impl Hybrid for Multi<'_> {
         let l = top.reach();
         let cand = top.touching(y, 1e-12 * l, f64::INFINITY);
         let eps = self.tolerance(y, rtol);
+        if let Some(i) = top.lying_flat(y, 1e-12 * l) {
+            // A ring that starts lying flat lies flat (sliding, or stuck where it is still).
+            let stuck = top.friction.can_stick() && top.flat_slide(i, y) <= eps;
+            let c = top.flat_contacts(i, stuck);
+            top.multi_project(&c, y);
+            return (
+                MPhase {
+                    contacts: c,
+                    hop: f64::INFINITY,
+                },
+                None,
+            );
+        }
         let (mut contacts, jam) = if cand == 0 {
             (Contacts::NONE, false)
         } else {
@@ -291,6 +311,16 @@ impl Hybrid for Multi<'_> {
         let top = self.0;
         let stick = top.friction.can_stick();
         let mut out = Vec::with_capacity(3 * top.parts.n);
+        if phase.contacts.flat {
+            // A ring lying flat: it stays on the floor (its normal force is m g) and can only
+            // stop sliding and spinning.
+            for i in 0..top.parts.n {
+                if stick && phase.contacts.mode[i] == Mode::Slip {
+                    out.push(MSwitch::SlipToRoll(i));
+                }
+            }
+            return out;
+        }
         for i in 0..top.parts.n {
             let p = &top.parts.shape[i];
             let (lever, radius) = p.levers();
@@ -332,6 +362,7 @@ impl Hybrid for Multi<'_> {
                 top.parts.shape[i].gap(k.zg, k.e3) + top.touchdown_offset()
             }
             MSwitch::LiftOff(i) => forces().n[i],
+            MSwitch::SlipToRoll(i) if phase.contacts.flat => top.flat_slide(i, y) - eps,
             MSwitch::SlipToRoll(i) => {
                 let k = top.mkin(y);
                 let vp = top.parts.shape[i].point_velocity(k.v, k.w, k.e3);
@@ -350,9 +381,6 @@ impl Hybrid for Multi<'_> {
         (sw.name(), Some(sw.part()))
     }
 
-    fn terminal(&self, sw: MSwitch) -> bool {
-        matches!(sw, MSwitch::Flat(_))
-    }
 
     fn apply(&self, sw: MSwitch, phase: &MPhase, y: &mut [f64; DIM], rtol: f64) -> MPhase {
         let top = self.0;
@@ -372,6 +400,21 @@ impl Hybrid for Multi<'_> {
                 MPhase {
                     contacts: c,
                     hop: f64::INFINITY,
+                }
+            }
+            MSwitch::Touchdown(i) if c.mask(n) == 0 && top.lying_flat(y, 1e-9 * top.reach()) == Some(i) => {
+                // A ring comes down flat: the whole rim strikes at once.
+                if top.flat_impact(i, y, top.restitution) {
+                    MPhase {
+                        contacts: Contacts::NONE,
+                        hop: 2.0 * y[12] / top.g,
+                    }
+                } else {
+                    let eps = self.tolerance(y, rtol);
+                    let stuck = top.friction.can_stick() && top.flat_slide(i, y) <= eps;
+                    let c = top.flat_contacts(i, stuck);
+                    top.multi_project(&c, y);
+                    MPhase { contacts: c, hop: f64::INFINITY }
                 }
             }
             MSwitch::Touchdown(i) => {
@@ -406,6 +449,15 @@ impl Hybrid for Multi<'_> {
                     yi
                 };
                 self.after_impulse(y, &c, rtol)
+            }
+            MSwitch::SlipToRoll(i) if phase.contacts.flat => {
+                // A flat ring's sliding and spinning stop together: it rests.
+                let c = top.flat_contacts(i, true);
+                top.multi_project(&c, y);
+                MPhase {
+                    contacts: c,
+                    hop: f64::INFINITY,
+                }
             }
             MSwitch::SlipToRoll(i) => {
                 // Part i stops slipping. Every touching part whose sliding has stopped (within
@@ -474,7 +526,17 @@ impl Hybrid for Multi<'_> {
                     hop: f64::INFINITY,
                 }
             }
-            MSwitch::Flat(_) => *phase,
+            MSwitch::Flat(i) => {
+                // The ring comes down flat: the plastic impact of its face, then it lies flat.
+                let eps = self.tolerance(y, rtol);
+                let stuck = top.friction.can_stick() && top.flat_slide(i, y) <= eps;
+                let c = top.flat_contacts(i, stuck);
+                top.multi_project(&c, y);
+                MPhase {
+                    contacts: c,
+                    hop: f64::INFINITY,
+                }
+            }
             MSwitch::Jam(i) => {
                 // The tangential impact of the Painleve case: an impulse at the part that
                 // stops its slip, sticking if the cone allows, else sliding until the slip

@@ -39,6 +39,9 @@ pub struct Contacts {
     pub mode: [Mode; MAX_PARTS],
     /// Slip direction in force at zero slip speed, per part.
     pub dir: [[f64; 2]; MAX_PARTS],
+    /// The one touching part is a ring lying flat: it touches along its whole circle
+    /// ([`PlayTop::flat_dynamics`]).
+    pub flat: bool,
 }
 
 impl Contacts {
@@ -46,6 +49,7 @@ impl Contacts {
     pub const NONE: Contacts = Contacts {
         mode: [Mode::Flight; MAX_PARTS],
         dir: [[0.0; 2]; MAX_PARTS],
+        flat: false,
     };
 
     /// The one mode that describes the whole top: slip if a part slides, else roll if a
@@ -400,6 +404,9 @@ impl PlayTop {
         // All touching parts sliding: one unknown per part, a small system (one part sliding,
         // the common case: one unknown).
         let modes = &c.mode[..self.parts.n];
+        if c.flat {
+            return self.flat_dynamics(c, y, dy);
+        }
         if modes.contains(&Mode::Roll) {
             self.dynamics_of::<MAXU>(c, y, dy)
         } else if modes.iter().filter(|&&m| m == Mode::Slip).count() <= 1 {
@@ -675,6 +682,208 @@ impl PlayTop {
         dy[12] + dot(wd, cross(p.arm(k.e3), EZ)) + p.gap_bias(k.w, k.e3)
     }
 
+    /// The ring part lying flat at `y`, if one does: a torus touching (its gap within
+    /// `tol`) whose plane is within [`super::hybrid::FLAT_LEVEL`] of the floor's, and no
+    /// other part lower.
+    pub fn lying_flat(&self, y: &[f64; DIM], tol: f64) -> Option<usize> {
+        if self.g <= 0.0 {
+            return None;
+        }
+        let k = self.mkin(y);
+        let tilt = k.e3[0].hypot(k.e3[1]);
+        if tilt >= super::hybrid::FLAT_LEVEL {
+            return None;
+        }
+        let gaps: Vec<f64> = (0..self.parts.n)
+            .map(|i| self.part(i).gap(k.zg, k.e3))
+            .collect();
+        let lowest = gaps.iter().cloned().fold(f64::INFINITY, f64::min);
+        (0..self.parts.n).find(|&i| {
+            matches!(self.part(i), Shape::Torus { .. })
+                && gaps[i] <= tol
+                && gaps[i] <= lowest + 1e-12 * self.reach()
+        })
+    }
+
+    /// The contacts of ring part `i` lying flat, sliding (or stuck where `stuck`).
+    pub fn flat_contacts(&self, i: usize, stuck: bool) -> Contacts {
+        let mut c = Contacts::NONE;
+        c.mode[i] = if stuck { Mode::Roll } else { Mode::Slip };
+        c.flat = true;
+        c
+    }
+
+    /// The sliding measure of a ring lying flat: `sqrt(|v|^2 + (R w_z)^2)`, the largest
+    /// speed of a point of its rim is at most this times sqrt 2.
+    pub fn flat_slide(&self, i: usize, y: &[f64; DIM]) -> f64 {
+        let k = self.mkin(y);
+        let r = match *self.part(i) {
+            Shape::Torus { major, .. } => major,
+            _ => 0.0,
+        };
+        (k.v[0] * k.v[0] + k.v[1] * k.v[1] + r * r * k.w[2] * k.w[2]).sqrt()
+    }
+
+    /// Puts a state on the flat contact of ring part `i`: the figure axis exactly vertical
+    /// (the orientation a turn about it from upright or from upside down, so that the
+    /// integration keeps it exactly), no tilting rate, G at the ring's resting height with no
+    /// vertical velocity, and where `stuck` no motion at all. The kinetic energy removed
+    /// (a plastic impact of the ring's face on the floor) is added to the dissipated energy;
+    /// where the height's change would raise the energy, the velocities are scaled to keep
+    /// it.
+    pub fn flat_project(&self, i: usize, y: &mut [f64; DIM], stuck: bool) {
+        let before = self.kinetic_energy(y) + self.m * self.g * y[9];
+        let k = self.mkin(y);
+        let up = k.e3[2] >= 0.0;
+        let wz = if stuck { 0.0 } else { k.w[2] };
+        let q = if up {
+            // A turn by a about ez: q = (cos a/2, 0, 0, sin a/2), a the heading of body x.
+            let a = k.r[1][0].atan2(k.r[0][0]);
+            [(0.5 * a).cos(), 0.0, 0.0, (0.5 * a).sin()]
+        } else {
+            // A half turn about the horizontal (cos b, sin b, 0) maps body x to heading 2b.
+            let b = 0.5 * k.r[1][0].atan2(k.r[0][0]);
+            [0.0, b.cos(), b.sin(), 0.0]
+        };
+        // The sign of the quaternion kept (the heading's wrap at pi would flip it).
+        let same = q.iter().zip(&y[..4]).map(|(a, b)| a * b).sum::<f64>() >= 0.0;
+        y[..4].copy_from_slice(&q.map(|x| if same { x } else { -x }));
+        let u = if up { 1.0 } else { -1.0 };
+        y[4] = 0.0;
+        y[5] = 0.0;
+        y[6] = u * wz;
+        let (z, minor) = match *self.part(i) {
+            Shape::Torus { z, minor, .. } => (z, minor),
+            _ => (0.0, 0.0),
+        };
+        y[9] = minor - z * u;
+        if stuck {
+            y[10] = 0.0;
+            y[11] = 0.0;
+        }
+        y[12] = 0.0;
+        let ke = self.kinetic_energy(y);
+        let after = ke + self.m * self.g * y[9];
+        if after > before && ke > 0.0 {
+            let f = ((ke - (after - before)).max(0.0) / ke).sqrt();
+            for j in [6, 10, 11] {
+                y[j] *= f;
+            }
+        } else {
+            y[13] += before - after;
+        }
+    }
+
+    /// The impact of ring part `i` coming down flat (its plane within
+    /// [`super::hybrid::FLAT_LEVEL`] of the floor's) with restitution `e`: the whole rim
+    /// strikes at once. The orientation is put exactly flat and the tilting rate removed; G's
+    /// vertical velocity is reversed times `e` (or stopped where the rise would be below the
+    /// [`PlayTop::bounce_height`]); the rim's friction acts through the impact with the normal
+    /// impulse `P = m (1 + e) |v_z|`, its force and moment per unit normal force those of
+    /// [`Self::flat_dynamics`] at the impact, cut where they would reverse the sliding or the
+    /// spin. Returns whether the ring bounces. The kinetic energy taken is added to the
+    /// dissipated energy.
+    pub fn flat_impact(&self, i: usize, y: &mut [f64; DIM], e: f64) -> bool {
+        let vz = y[12].min(0.0);
+        let ke0 = self.kinetic_energy(y);
+        let d0 = y[13];
+        self.flat_project(i, y, false);
+        let up = self.m * self.g > 0.0 && e * e * vz * vz / (2.0 * self.g) > self.bounce_height();
+        let e = if up { e } else { 0.0 };
+        let pn = self.m * (1.0 + e) * -vz;
+        let mut c = self.flat_contacts(i, false);
+        c.mode[i] = Mode::Slip;
+        let mut dy = [0.0; DIM];
+        let f = self.flat_dynamics(&c, y, &mut dy);
+        let n = self.m * self.g;
+        if n > 0.0 && pn > 0.0 {
+            let dv = [f.ft[i][0] / n * pn / self.m, f.ft[i][1] / n * pn / self.m];
+            let dw = f.mz[i] / n * pn / self.c;
+            let v = [y[10], y[11]];
+            let k = self.mkin(y);
+            let mut lam: f64 = 1.0;
+            let dvn = dv[0].hypot(dv[1]);
+            if dvn > 0.0 {
+                lam = lam.min(v[0].hypot(v[1]) / dvn);
+            }
+            if dw != 0.0 {
+                lam = lam.min(k.w[2].abs() / dw.abs());
+            }
+            y[10] += lam * dv[0];
+            y[11] += lam * dv[1];
+            y[6] += k.e3[2].signum() * lam * dw;
+        }
+        y[12] = -e * vz;
+        let loss = ke0 - self.kinetic_energy(y);
+        y[13] = d0 + loss.max(0.0);
+        up
+    }
+
+    /// The equations of a ring lying flat (part `i` of `c`, the one touching): its plane on
+    /// the floor, it slides and spins about the vertical, `m dv/dt = F`, `C dw_z/dt = M_z`,
+    /// the normal force `m g` spread evenly over the rim of radius R (the moment the friction
+    /// makes about G is taken by the spread, which is not resolved). The friction law acts at
+    /// every point of the rim (Coulomb-Contensou with its own patch there): its force and
+    /// moment are the rim's mean over 64 points (closed forms for viscous friction: `F = -mu
+    /// N v`, `M_z = -mu N R^2 w_z`; for a rim spinning without sliding under Coulomb
+    /// friction, `M_z = -mu N R sign(w_z)`). A ring stuck flat (mode roll) rests.
+    pub fn flat_dynamics(&self, c: &Contacts, y: &[f64; DIM], dy: &mut [f64; DIM]) -> Forces {
+        let k = self.mkin(y);
+        let i = (0..self.parts.n)
+            .find(|&j| c.mode[j] != Mode::Flight)
+            .unwrap_or(0);
+        let mut f = Forces::default();
+        *dy = [0.0; DIM];
+        let n = self.m * self.g;
+        f.n[i] = n;
+        f.den[i] = 1.0 / self.m;
+        if c.mode[i] == Mode::Roll {
+            return f;
+        }
+        let r = match *self.part(i) {
+            Shape::Torus { major, .. } => major,
+            _ => 0.0,
+        };
+        let (v, wz) = ([k.v[0], k.v[1]], k.w[2]);
+        let (mut fx, mut fy, mut mz) = (0.0, 0.0, 0.0);
+        match self.friction {
+            Friction::Frictionless => {}
+            Friction::Viscous { mu } => {
+                fx = -mu * n * v[0];
+                fy = -mu * n * v[1];
+                mz = -mu * n * r * r * wz;
+            }
+            _ => {
+                const NQ: usize = 64;
+                let w = n / NQ as f64;
+                for j in 0..NQ {
+                    let phi = (j as f64 + 0.5) * std::f64::consts::TAU / NQ as f64;
+                    let (sn, cs) = phi.sin_cos();
+                    let (rx, ry) = (r * cs, r * sn);
+                    let vp = [v[0] - wz * ry, v[1] + wz * rx, 0.0];
+                    let (ft, md) = self.friction_per_n(vp, wz, [0.0; 2]);
+                    fx += w * ft[0];
+                    fy += w * ft[1];
+                    mz += w * (rx * ft[1] - ry * ft[0] + md);
+                }
+            }
+        }
+        f.ft[i] = [fx, fy];
+        f.mz[i] = mz;
+        // Resistance torques about the vertical (the horizontal ones are taken by the floor).
+        let (res_n, res_0) = self.resistance_at(k.wb, k.to_body(EZ), self.reach());
+        let res = k.to_space(add(scale(n, res_n), res_0))[2];
+        let u = k.e3[2].signum();
+        dy[..4].copy_from_slice(&k.q.half_times_pure(k.wb));
+        dy[6] = u * (mz + res) / self.c;
+        dy[7] = v[0];
+        dy[8] = v[1];
+        dy[10] = fx / self.m;
+        dy[11] = fy / self.m;
+        dy[13] = -(fx * v[0] + fy * v[1] + (mz + res) * wz);
+        f
+    }
+
     /// The gap's acceleration of part `i` in free flight (no contact force) at `y`.
     pub fn free_gap_acceleration(&self, i: usize, y: &[f64; DIM]) -> f64 {
         let mut dy = [0.0; DIM];
@@ -766,6 +975,7 @@ impl PlayTop {
         let mut base = Contacts {
             mode: [Mode::Flight; MAX_PARTS],
             dir: prev.dir,
+            flat: false,
         };
         let mut want = [Mode::Flight; MAX_PARTS];
         for i in 0..n {
@@ -848,6 +1058,12 @@ impl PlayTop {
     /// velocity from the parts touching (their mean where several touch), and its whole
     /// velocity from the first sticking part. Normalises the quaternion.
     pub fn multi_project(&self, c: &Contacts, y: &mut [f64; DIM]) {
+        if c.flat {
+            if let Some(i) = (0..self.parts.n).find(|&j| c.mode[j] != Mode::Flight) {
+                self.flat_project(i, y, c.mode[i] == Mode::Roll);
+                return;
+            }
+        }
         let nq = (y[0] * y[0] + y[1] * y[1] + y[2] * y[2] + y[3] * y[3]).sqrt();
         for v in y.iter_mut().take(4) {
             *v /= nq;

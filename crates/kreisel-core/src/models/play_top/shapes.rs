@@ -183,6 +183,29 @@ impl Shape {
     pub fn arm(&self, e3: [f64; 3]) -> [f64; 3] {
         match *self {
             Shape::Sphere { radius, z } => [z * e3[0], z * e3[1], z * e3[2] - radius],
+            Shape::Torus { major, minor, z } => {
+                // The rim's lowest point, `z e3 - R d/|d| - r ez` with `d = ez - u e3` (the
+                // ring plane's most downward direction), from the axis's horizontal part
+                // `h` (|d| = |h| sqrt(u^2 + |h|^2)): the same point as the general formula,
+                // whose terms of size R/|h| cancel, without the cancellation near flat
+                // (there it lost ~1e-16 R/|h| of the height: micrometres). Lying exactly
+                // flat every rim point is lowest; the arm is then the circle's centre, of the
+                // same height.
+                let u = e3[2];
+                let s2 = e3[0] * e3[0] + e3[1] * e3[1];
+                let s = s2.sqrt();
+                let (kh, dz) = if s > 0.0 {
+                    let dn = s * (u * u + s2).sqrt();
+                    (major * u / dn, major * s2 / dn)
+                } else {
+                    (0.0, 0.0)
+                };
+                [
+                    (z + kh) * e3[0],
+                    (z + kh) * e3[1],
+                    z * u - dz - minor,
+                ]
+            }
             _ => {
                 let u = e3[2];
                 let (phi, dphi, _) = self.profile(u);

@@ -1,0 +1,147 @@
+"""Tops on a floor never go through it: the reproducers of the one-engine issue, each with an
+independent check.
+
+- The height of each part's lowest point is computed here from G's height and u = cos(theta)
+  alone: ``z_G + z u - phi(u)``, ``phi`` a sphere's radius, a torus's ``R sqrt(1 - u^2) + r``
+  (the support function of the part, docs: theory, "Bodies of revolution").
+- A ring lying flat touches along its whole rim with the normal force m g spread evenly:
+  under viscous friction (F = -mu N v per point) its spin decays as
+  ``w(t) = w0 exp(-mu m g R^2 t / C)``; under Coulomb friction a pure spin stops at
+  ``t = C w0 / (mu m g R)``; under Coulomb-Contensou friction (a patch of effective radius
+  rbar at every rim point) at ``t = C w0 / (mu m g sqrt(R^2 + rbar^2))``: the moment per point
+  is ``mu (R^2 w + rbar^2 w) / sqrt(R^2 w^2 + rbar^2 w^2)`` times the load.
+- A flat ring bouncing on its whole rim: each flight is e times the one before (the vertical
+  velocity is reversed times e, and the flight time of a ballistic hop is 2 v / g).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import kreisel
+from kreisel import Coulomb, CoulombContensou, PlayState, PlayTop, Viscous
+from kreisel.shapes import Sphere, Torus
+
+G = 9.81
+
+
+def _phi(part, u):
+    if isinstance(part, Sphere):
+        return part.radius + 0.0 * u
+    return part.major * np.sqrt(np.clip(1.0 - u * u, 0.0, None)) + part.minor
+
+
+def part_gaps(parts, traj):
+    """Each part's lowest point's height above the floor, row by row (n_parts x n_rows)."""
+    u, zg = traj.u, traj.com[:, 2]
+    return np.array([zg + p.z * u - _phi(p, u) for p in parts])
+
+
+def test_a_bouncing_top_comes_to_rest_on_the_floor_after_its_bounces():
+    t = PlayTop(0.053, 1.85e-6, 1.83e-6, s=0.0103, rho=0.00438, friction=Viscous(1.0),
+                restitution=0.5)  # fmt: skip
+    st = t.state(0.0, theta_dot=-5, phi_dot=-15.7, psi_dot=34.8, height=0.0043)
+    tr = kreisel.simulate(t, st, 0.5)
+    gaps = part_gaps([Sphere(0.00438, z=-0.0103)], tr)
+    assert gaps.min() > -1e-9
+    downs = [e.t for e in tr.events if e.name == "touchdown"]
+    # the bounces end (a Zeno sequence cut off), then the top stays on the floor
+    assert 5 < len(downs) < 60
+    after = tr.t > downs[-1]
+    assert set(tr.mode[after]) <= {"slip", "roll"} and np.abs(gaps[0, after]).max() < 1e-9
+    total = tr.energy + tr.dissipated
+    assert np.diff(total).max() <= 1e-10 * total[0]  # the integration's tolerance
+
+
+@pytest.mark.parametrize("minor", [0.005, 0.0])
+def test_a_ring_flat_upside_down_spins_down_as_the_closed_form(minor):
+    m, c, r, mu = 0.113, 6e-5, 0.02, 1.0
+    t = PlayTop(m, 4.35e-5, c, shape=[Torus(r, minor, 0.0)], friction=Viscous(mu),
+                restitution=0.5)  # fmt: skip
+    tr = kreisel.simulate(t, t.state(math.pi, psi_dot=10.0), 1.0)
+    assert tr.stats["steps"] < 1000 and tr.status == "completed"
+    np.testing.assert_allclose(tr.u, -1.0, rtol=0, atol=1e-15)
+    assert np.all(tr.mode == "slip")
+    np.testing.assert_allclose(tr.com[:, 2], minor, rtol=0, atol=1e-15)
+    w = np.abs(tr.omega[:, 2])
+    np.testing.assert_allclose(w, 10.0 * np.exp(-mu * m * G * r * r * tr.t / c), rtol=1e-8)
+
+
+def test_a_flat_ring_with_a_tilting_rate_stays_on_the_floor():
+    m, c, r, rr, mu = 0.0585, 3.977e-06, 0.01119, 0.001119, 0.448
+    t = PlayTop(m, 2.265e-06, c, shape=[Torus(r, rr, 0.0, name="rim")], friction=Viscous(mu),
+                restitution=0.9)  # fmt: skip
+    st = PlayState(quaternion=[1, 0, 0, 0], omega=[-0.2737, 0, 79.62], com=[0, 0, rr],
+                   com_velocity=[0, 0, 0])  # fmt: skip
+    tr = kreisel.simulate(t, st, 1.0)
+    assert tr.status == "completed" and tr.stats["steps"] < 1000
+    np.testing.assert_allclose(tr.com[:, 2], rr, rtol=0, atol=1e-15)
+    # the tilting rate is taken by the face's plastic impact; the spin decays as the closed form
+    w = tr.omega[:, 2]
+    np.testing.assert_allclose(w, 79.62 * np.exp(-mu * m * G * r * r * tr.t / c), rtol=1e-8)
+    ke_tilt = 0.5 * 2.265e-06 * 0.2737**2
+    assert tr.dissipated[0] == pytest.approx(ke_tilt, rel=1e-9)
+
+
+def test_a_touchdown_on_the_peg_while_the_ball_rests_is_found():
+    parts = [Sphere(0.01255, z=-0.00251, name="ball"), Sphere(0.003765, z=-0.01461, name="peg")]
+    t = PlayTop(0.0034, 3.02e-07, 1.70e-07, shape=parts,
+                friction=CoulombContensou(0.2425, 2.51e-4), restitution=0.9)  # fmt: skip
+    st = PlayState(quaternion=[1, 0, 0, 0], omega=[-2.687, 0, -10.83], com=[0, 0, 0.04927],
+                   com_velocity=[0, 0, 0])  # fmt: skip
+    tr = kreisel.simulate(t, st, 1.0)
+    gaps = part_gaps(parts, tr)
+    assert gaps.min() > -1e-9
+    # every part that comes down through the floor's level does so at a touchdown event
+    for i, name in enumerate(("ball", "peg")):
+        downs = {e.t for e in tr.events if e.name == "touchdown" and e.part == name}
+        arrive = np.flatnonzero((gaps[i, :-1] > 1e-9) & (gaps[i, 1:] < 0.0))
+        assert all(tr.t[k + 1] in downs for k in arrive), name
+    total = tr.energy + tr.dissipated
+    assert np.diff(total).max() <= 1e-10 * total[0]  # the integration's tolerance
+
+
+def test_a_thin_ring_dropped_flat_bounces_on_its_whole_rim_and_rests():
+    m, c, r, rr, e = 0.00835, 2.10e-8, 0.00441, 0.000441, 0.6
+    t = PlayTop(m, 5.93e-8, c, shape=[Torus(r, rr, 0.0)], friction=CoulombContensou(0.637, 8.8e-5),
+                restitution=e)  # fmt: skip
+    tr = kreisel.simulate(t, t.state(math.pi, psi_dot=96.0, height=0.004), 2.0)
+    assert tr.status == "completed" and tr.stats["steps"] < 10_000
+    assert part_gaps([Torus(r, rr, 0.0)], tr).min() > -1e-9
+    downs = np.array([ev.t for ev in tr.events if ev.name == "touchdown"])
+    flights = np.diff(downs)
+    np.testing.assert_allclose(flights[1:6] / flights[:5], e, rtol=1e-6)
+    # the first fall: from 4 mm, t = sqrt(2 h / g)
+    assert downs[0] == pytest.approx(math.sqrt(2 * 0.004 / G), rel=1e-9)
+    assert tr.events[-1].name == "slip_to_roll"
+    np.testing.assert_array_equal(tr.omega[-1], 0.0)
+    total = tr.energy + tr.dissipated
+    assert np.diff(total).max() <= 1e-10 * total[0]  # the integration's tolerance
+
+
+@pytest.mark.parametrize("face", [0.0, math.pi])
+def test_a_disk_started_flat_does_not_sink_and_stops_spinning_as_the_closed_form(face):
+    from kreisel import bodies
+
+    a, h, m = 0.0375, 0.0125, 0.434
+    disk = bodies.disk(a, h, m)
+    tr = kreisel.simulate(disk, disk.state(face, psi_dot=10.0), 5.0)
+    np.testing.assert_allclose(tr.com[:, 2], h / 2, rtol=0, atol=1e-15)
+    fr = disk.friction
+    rbar = 3 * math.pi * fr.radius / 16
+    t_stop = disk.C * 10.0 / (fr.mu * m * G * math.hypot(a, rbar))
+    stop = [ev.t for ev in tr.events if ev.name == "slip_to_roll"]
+    assert len(stop) == 1 and stop[0] == pytest.approx(t_stop, rel=1e-6)
+    np.testing.assert_allclose(np.abs(tr.omega[tr.t < stop[0], 2]),
+                               10.0 * (1 - tr.t[tr.t < stop[0]] / t_stop), rtol=0, atol=1e-5)  # fmt: skip
+
+
+def test_a_sharp_rim_spinning_flat_under_coulomb_friction_stops_at_the_closed_form_time():
+    m, c, r, mu = 0.00835, 2.10e-8, 0.00441, 0.3
+    t = PlayTop(m, 5.93e-8, c, shape=[Torus(r, 0.0, 0.0)], friction=Coulomb(mu))
+    tr = kreisel.simulate(t, t.state(0.0, psi_dot=50.0), 2.0)
+    stop = [ev.t for ev in tr.events if ev.name == "slip_to_roll"]
+    assert stop == [pytest.approx(c * 50.0 / (mu * m * G * r), rel=1e-8)]

@@ -68,6 +68,11 @@ pub fn method(name: &str) -> Result<MethodInfo> {
 /// The most steps a run may take (adaptive step attempts, or fixed steps `t_end / dt`).
 pub const MAX_STEPS: u64 = 100_000_000;
 
+/// The most rows a run keeps (one per step without `t_eval`): about 2 GB of a play top's
+/// rows. A run that reaches it stops with an error naming `t_end` and `t_eval`, instead of
+/// growing until the allocator fails.
+pub const MAX_ROWS: usize = 10_000_000;
+
 /// What an event function looks at.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum EventKind {
@@ -480,11 +485,19 @@ const PACE_EVERY: u64 = 1 << 16;
 /// Watches the pace of a run: a run whose steps so far, extrapolated to `t_end`, come to
 /// more than ten times [`MAX_STEPS`] stops at once (a t_end of 1e300 s would otherwise take
 /// 10^8 steps to fail), and says so in an error naming `t_end`.
+///
+/// It also watches each window of [`PACE_EVERY`] steps on its own: a run that stalls (its
+/// last window, extrapolated to `t_end`, comes to more than ten times [`MAX_STEPS`]) stops
+/// too, with an error that says where it stalled, rather than running for hours on ever
+/// smaller steps.
 struct Pace<'k> {
     inner: &'k mut dyn FnMut(f64) -> bool,
     calls: u64,
     t_end: f64,
     too_long: Option<(u64, f64)>,
+    /// The time at the start of the current window.
+    window_t: f64,
+    stalled: Option<(f64, f64, f64)>,
 }
 
 impl<'k> Pace<'k> {
@@ -494,6 +507,8 @@ impl<'k> Pace<'k> {
             calls: 0,
             t_end,
             too_long: None,
+            window_t: 0.0,
+            stalled: None,
         }
     }
 
@@ -505,12 +520,31 @@ impl<'k> Pace<'k> {
                 self.too_long = Some((self.calls, projected));
                 return false;
             }
+            let advanced = t - self.window_t;
+            let ahead = PACE_EVERY as f64 * (self.t_end - t) / advanced.max(1e-300);
+            if self.calls as f64 + ahead > 10.0 * MAX_STEPS as f64 {
+                self.stalled = Some((t, advanced, self.calls as f64 + ahead));
+                return false;
+            }
+            self.window_t = t;
         }
         (self.inner)(t)
     }
 
     /// The error of a run stopped for its pace, if it was.
     fn check(&self) -> Result<()> {
+        if let Some((t, advanced, projected)) = self.stalled {
+            return Err(KreiselError::invalid(
+                "t_end",
+                self.t_end,
+                format!(
+                    "the run stalled at t = {t:.9e} s: its last {PACE_EVERY} steps advanced it \
+                     by {advanced:.1e} s, so it would take about {projected:.1e} steps, more \
+                     than the {MAX_STEPS} a run may take (the motion there is too stiff for \
+                     the method's steps); give a t_end before the stall or looser tolerances"
+                ),
+            ));
+        }
         match self.too_long {
             None => Ok(()),
             Some((n, projected)) => Err(KreiselError::invalid(
@@ -538,17 +572,36 @@ pub fn simulate<M: Model>(
     check(model, settings, user.len())?;
     let (mut t, mut rows) = (Vec::new(), Vec::new());
     let mut pace = Pace::new(keep_going, settings.t_end);
+    let full = std::cell::Cell::new(false);
     let info = model.run(
         s0,
         settings,
         user,
-        &mut |t| pace.keep_going(t),
+        &mut |ti| !full.get() && pace.keep_going(ti),
         &mut |ti, r| {
-            t.push(ti);
-            rows.push(*r);
+            if t.len() < MAX_ROWS {
+                t.push(ti);
+                rows.push(*r);
+            } else {
+                full.set(true);
+            }
         },
     );
     pace.check()?;
+    if full.get() {
+        let size = std::mem::size_of::<M::Row>() + std::mem::size_of::<f64>();
+        return Err(KreiselError::invalid(
+            "t_end",
+            settings.t_end,
+            format!(
+                "the run keeps a row per step and reached the {MAX_ROWS} rows (about {:.1} \
+                 GB) a run may keep at t = {:.9e} s: pass t_eval to keep rows at chosen times \
+                 only, or give a shorter t_end",
+                (MAX_ROWS * size) as f64 / 1e9,
+                t.last().copied().unwrap_or(0.0)
+            ),
+        ));
+    }
     Ok(Solution {
         t,
         rows,

@@ -72,9 +72,30 @@ impl PlayTop {
         self.initial_phase_jam(y, rtol).0
     }
 
-    /// [`Self::initial_phase`], and whether the start needed a tangential impact (sliding
-    /// with no consistent normal force, the Painleve case).
-    pub fn initial_phase_jam(&self, y: &mut [f64; DIM], rtol: f64) -> (Phase, bool) {
+    /// [`Self::initial_phase`], and the switch the start needed, if any: a touchdown (the tip
+    /// on the floor and moving into it: the impact of a touchdown at t = 0) or a tangential
+    /// impact (sliding with no consistent normal force, the Painleve case).
+    pub fn initial_phase_jam(&self, y: &mut [f64; DIM], rtol: f64) -> (Phase, Option<Switch>) {
+        let flight = Phase {
+            mode: Mode::Flight,
+            dir: [0.0; 3],
+            hop: f64::INFINITY,
+        };
+        if self.height(y) <= 1e-12 * self.rho {
+            // The tip's normal velocity decides: into the floor, an impact; away from it,
+            // a flight (putting either on the contact would change the energy unrecorded).
+            let k = self.kin(y);
+            let tol = 1e-12 * self.slip_scale(&k);
+            if k.v_t[2] < -tol {
+                return (
+                    self.switch(Switch::Touchdown, &flight, y, rtol),
+                    Some(Switch::Touchdown),
+                );
+            }
+            if k.v_t[2] > tol {
+                return (flight, None);
+            }
+        }
         let mode = self.settle(self.initial_mode(y), y, rtol);
         let phase = Phase {
             mode,
@@ -83,10 +104,10 @@ impl PlayTop {
         };
         if mode == Mode::Flight && self.height(y) <= 1e-12 * self.rho && self.jammed(y, [0.0; 3]) {
             // Sliding has no consistent normal force at the start (the Painleve case).
-            return (self.switch(Switch::Jam, &phase, y, rtol), true);
+            return (self.switch(Switch::Jam, &phase, y, rtol), Some(Switch::Jam));
         }
         self.project(mode, y);
-        (phase, false)
+        (phase, None)
     }
 
     /// Whether sliding at a contact state is in the Painleve case: its own coefficient at or
@@ -282,7 +303,8 @@ impl PlayTop {
                 };
             }
             Switch::Touchdown => {
-                let (yi, sticks) = self.impact(y);
+                let before = *y;
+                let (yi, sticks) = self.impact(&before);
                 *y = yi;
                 let vn = self.kin(y).v_t[2];
                 let flies = self.bounce(0, y, vn);
@@ -290,7 +312,8 @@ impl PlayTop {
                 let bounce = flies.is_some();
                 let mut sticks = sticks;
                 if !bounce && vn > 0.0 {
-                    let (yp, s2) = self.impact_with(y, 0.0);
+                    // A bounce below the cut-off: the impact without restitution instead.
+                    let (yp, s2) = self.impact_with(&before, 0.0);
                     *y = yp;
                     sticks = s2;
                 }
@@ -460,6 +483,14 @@ impl PlayTop {
             p = scale(pn, d);
         }
         let (mut out, loss) = self.apply_impulse(y, &k, p);
+        if loss < 0.0 {
+            // A Coulomb impulse of one direction that reverses the slip gives energy: the
+            // impact is the general one, whose every choice takes energy (and which falls back
+            // to a plastic, then frictionless, impact).
+            let (mut out, st) = self.multi_impact(y, 1, [-e * vn, 0.0, 0.0, 0.0]);
+            out[9] = self.rho + self.s * k.u;
+            return (out, st != 0);
+        }
         out[13] += loss;
         // The impact happens on the floor.
         out[9] = self.rho + self.s * k.u;

@@ -29,9 +29,9 @@ pub(crate) trait Hybrid {
     type Phase: Copy;
     /// A switch of contact, located as an event of the phase it ends.
     type Switch: Copy;
-    /// The phase a state starts in (the state put on its constraints), and the part of a
-    /// tangential impact the start needed (the Painleve case), if any.
-    fn start(&self, y: &mut [f64; DIM], rtol: f64) -> (Self::Phase, Option<usize>);
+    /// The phase a state starts in (the state put on its constraints), and the switch the
+    /// start needed (a touchdown at t = 0, a tangential impact), if any.
+    fn start(&self, y: &mut [f64; DIM], rtol: f64) -> (Self::Phase, Option<Self::Switch>);
     /// The switches watched in a phase.
     fn watched(&self, phase: &Self::Phase) -> Vec<Self::Switch>;
     /// Whether a switch is the classic lift-off (whose normal force the last right-hand side
@@ -81,9 +81,8 @@ pub(crate) struct Classic<'a>(pub &'a PlayTop);
 impl Hybrid for Classic<'_> {
     type Phase = Phase;
     type Switch = Switch;
-    fn start(&self, y: &mut [f64; DIM], rtol: f64) -> (Phase, Option<usize>) {
-        let (phase, jam) = self.0.initial_phase_jam(y, rtol);
-        (phase, jam.then_some(0))
+    fn start(&self, y: &mut [f64; DIM], rtol: f64) -> (Phase, Option<Switch>) {
+        self.0.initial_phase_jam(y, rtol)
     }
     fn watched(&self, phase: &Phase) -> Vec<Switch> {
         let top = self.0;
@@ -228,6 +227,20 @@ impl<'a> Multi<'a> {
     fn after_impulse(&self, y: &mut [f64; DIM], prev: &Contacts, rtol: f64) -> MPhase {
         let top = self.0;
         let l = top.reach();
+        // The impact was located a hair below the floor ([`PlayTop::touchdown_offset`]): the
+        // top is put back on it, so that a part that bounces starts its flight at the floor
+        // and its touchdown event function starts positive (however the rim swings down).
+        {
+            let k = top.mkin(y);
+            let lowest = top
+                .parts
+                .iter()
+                .map(|p| p.gap(k.zg, k.e3))
+                .fold(f64::INFINITY, f64::min);
+            if lowest < 0.0 {
+                y[9] -= lowest;
+            }
+        }
         let vscale = top.multi_speed_scale(y);
         let cand = top.touching(y, 1e-9 * l, 1e-9 * vscale);
         let eps = self.tolerance(y, rtol);
@@ -262,12 +275,33 @@ impl Hybrid for Multi<'_> {
     type Phase = MPhase;
     type Switch = MSwitch;
 
-    fn start(&self, y: &mut [f64; DIM], rtol: f64) -> (MPhase, Option<usize>) {
+    fn start(&self, y: &mut [f64; DIM], rtol: f64) -> (MPhase, Option<MSwitch>) {
         let top = self.0;
         let l = top.reach();
-        let cand = top.touching(y, 1e-12 * l, f64::INFINITY);
         let eps = self.tolerance(y, rtol);
-        if let Some(i) = top.lying_flat(y, 1e-12 * l) {
+        // A part on the floor and moving into it strikes it: the impact of a touchdown at
+        // t = 0 (the fastest such part; the impact resolves the others). Putting it on the
+        // contact instead would take its normal velocity unrecorded.
+        let vtol = 1e-12 * top.multi_speed_scale(y);
+        let strike = {
+            let k = top.mkin(y);
+            (0..top.parts.n)
+                .filter(|&i| top.parts.shape[i].gap(k.zg, k.e3) <= 1e-12 * l)
+                .map(|i| (i, top.parts.shape[i].gap_rate(k.v[2], k.w, k.e3)))
+                .filter(|&(_, vn)| vn < -vtol)
+                .min_by(|a, b| a.1.total_cmp(&b.1))
+        };
+        if let Some((i, _)) = strike {
+            let none = MPhase {
+                contacts: Contacts::NONE,
+                hop: f64::INFINITY,
+            };
+            let phase = self.apply(MSwitch::Touchdown(i), &none, y, rtol);
+            return (phase, Some(MSwitch::Touchdown(i)));
+        }
+        // Parts moving away from the floor fly.
+        let cand = top.touching(y, 1e-12 * l, vtol);
+        if let Some(i) = top.lying_flat(y, 1e-12 * l).filter(|&i| cand & (1 << i) != 0) {
             // A ring that starts lying flat lies flat (sliding, or stuck where it is still).
             let stuck = top.friction.can_stick() && top.flat_slide(i, y) <= eps;
             let c = top.flat_contacts(i, stuck);
@@ -285,7 +319,7 @@ impl Hybrid for Multi<'_> {
         } else {
             top.resolve_jam(y, cand, &Contacts::NONE, eps)
         };
-        let jam = jam.then(|| cand.trailing_zeros() as usize);
+        let jam = jam.then(|| MSwitch::Jam(cand.trailing_zeros() as usize));
         // A part that starts sticking with a round-off slip is stopped exactly.
         for i in 0..top.parts.n {
             if contacts.mode[i] == Mode::Roll {
@@ -631,6 +665,26 @@ impl OdeSystem<DIM> for MultiSystem<'_> {
     }
 }
 
+/// A switch keeps `E + dissipated`: it only turns energy into dissipated energy. The state
+/// it leaves is put on the floor from the located state a hair below it
+/// ([`PlayTop::touchdown_offset`]), which raises the potential energy by `m g offset`, and
+/// its projections round: any rise of `E + dissipated` over `before` is taken from the
+/// kinetic energy by scaling the velocities (every contact constraint is homogeneous in
+/// them, so the contact modes hold); kinetic energy a projection removed without counting it
+/// is counted as dissipated.
+fn no_energy_from_a_switch(top: &PlayTop, y: &mut [f64; DIM], before: f64) {
+    let ke = top.kinetic_energy(y);
+    let excess = ke + top.m * top.g * y[9] + y[13] - before;
+    if excess > 0.0 && ke > 0.0 {
+        let f = ((ke - excess).max(0.0) / ke).sqrt();
+        for i in (4..7).chain(10..13) {
+            y[i] *= f;
+        }
+    } else if excess < 0.0 {
+        y[13] -= excess;
+    }
+}
+
 /// A play top rests when its kinetic energy has fallen to this share of its start.
 const REST: f64 = 1e-12;
 
@@ -647,12 +701,13 @@ pub(crate) fn drive<H: Hybrid>(
     let mut info = RunInfo::default();
     let mut y = *y0;
     let (mut phase, jam) = h.start(&mut y, settings.rtol);
-    if let Some(part) = jam {
+    if let Some(sw) = jam {
+        let (name, part) = h.record(sw);
         info.events.push(EventRecord {
             index: None,
-            name: "tangential_impact".into(),
+            name: name.into(),
             t: 0.0,
-            part: Some(part),
+            part,
         });
     }
     let mut t = 0.0;
@@ -784,7 +839,9 @@ pub(crate) fn drive<H: Hybrid>(
         let before = h.row(&phase, &y).contacts.mode;
         let g_before: Vec<Option<f64>> =
             settings.events.iter().map(|e| value(e.kind, &y)).collect();
+        let e_before = top.kinetic_energy(&y) + top.m * top.g * y[9] + y[13];
         phase = h.apply(switch, &phase, &mut y, settings.rtol);
+        no_energy_from_a_switch(top, &mut y, e_before);
         // Other parts that the switch lifted off, put down, stuck or set sliding at the same
         // instant (an impulse, or parts that stick jointly).
         let after = h.row(&phase, &y).contacts.mode;

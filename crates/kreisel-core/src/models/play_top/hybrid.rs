@@ -41,6 +41,8 @@ pub(crate) trait Hybrid {
     fn value(&self, sw: Self::Switch, phase: &Self::Phase, y: &[f64; DIM], eps: f64) -> f64;
     /// The event's public name and its part.
     fn record(&self, sw: Self::Switch) -> (&'static str, Option<usize>);
+    /// Called with each phase's first state and its slip tolerance before it is integrated.
+    fn prepare(&self, _phase: &mut Self::Phase, _y: &[f64; DIM], _eps: f64) {}
     /// Whether the switch ends the run.
     fn terminal(&self, _sw: Self::Switch) -> bool {
         false
@@ -190,7 +192,17 @@ pub struct MPhase {
 /// right-hand side evaluated (its state and contacts as the key): the integrator evaluates it
 /// at the end of every accepted step just before the events are checked there, so the events
 /// that need the forces (lift-off, roll-to-slip, the jam) take them instead of solving again.
-pub(crate) struct Multi<'a>(pub &'a PlayTop, pub Cell<Option<Solved>>);
+///
+/// `floor` holds, per part, how far below the floor the current phase locates the part's
+/// touchdown: the [`PlayTop::touchdown_offset`] below where the part starts the phase where
+/// that is lower than the floor (a part off the floor while others touch may start a hair
+/// below it, by the rounding of their constraints), so that every touchdown event function
+/// starts positive.
+pub(crate) struct Multi<'a>(
+    pub &'a PlayTop,
+    pub Cell<Option<Solved>>,
+    pub Cell<[f64; super::MAX_PARTS]>,
+);
 
 /// The forces of one state and set of contacts (see [`Multi`]).
 #[derive(Clone, Copy)]
@@ -203,7 +215,7 @@ pub(crate) struct Solved {
 impl<'a> Multi<'a> {
     /// The rules of `top`, nothing evaluated yet.
     pub(crate) fn new(top: &'a PlayTop) -> Self {
-        Multi(top, Cell::new(None))
+        Multi(top, Cell::new(None), Cell::new([0.0; super::MAX_PARTS]))
     }
 
     /// The forces at `y` with `contacts`, from the last right-hand side where it was there.
@@ -391,9 +403,9 @@ impl Hybrid for Multi<'_> {
         let forces = || self.forces(&phase.contacts, y);
         match sw {
             MSwitch::Touchdown(i) => {
-                // Located a hair below the floor ([`PlayTop::touchdown_offset`]).
+                // Located a hair below the floor (see [`Multi`]).
                 let k = top.mkin(y);
-                top.parts.shape[i].gap(k.zg, k.e3) + top.touchdown_offset()
+                top.parts.shape[i].gap(k.zg, k.e3) + self.2.get()[i]
             }
             MSwitch::LiftOff(i) => forces().n[i],
             MSwitch::SlipToRoll(i) if phase.contacts.flat => top.flat_slide(i, y) - eps,
@@ -413,6 +425,18 @@ impl Hybrid for Multi<'_> {
 
     fn record(&self, sw: MSwitch) -> (&'static str, Option<usize>) {
         (sw.name(), Some(sw.part()))
+    }
+
+    fn prepare(&self, phase: &mut MPhase, y: &[f64; DIM], eps: f64) {
+        let top = self.0;
+        phase.contacts.creep = eps;
+        let k = top.mkin(y);
+        let mut floor = [0.0; super::MAX_PARTS];
+        for (i, f) in floor.iter_mut().enumerate().take(top.parts.n) {
+            let gap = top.parts.shape[i].gap(k.zg, k.e3);
+            *f = top.touchdown_offset() + (-gap).max(0.0);
+        }
+        self.2.set(floor);
     }
 
 
@@ -733,6 +757,7 @@ pub(crate) fn drive<H: Hybrid>(
             max_steps: MAX_STEPS,
         };
         let eps = h.tolerance(&y, settings.rtol);
+        h.prepare(&mut phase, &y, eps);
         let ph = phase;
         // The contact switches of this phase (terminal), then the watched events.
         let last = Cell::new(LastRhs::NONE);

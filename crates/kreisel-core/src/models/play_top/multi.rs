@@ -42,6 +42,12 @@ pub struct Contacts {
     /// The one touching part is a ring lying flat: it touches along its whole circle
     /// ([`PlayTop::flat_dynamics`]).
     pub flat: bool,
+    /// The creep speed (m/s): a sliding part whose sliding measure is at or below it (it has
+    /// stopped, to the phase's tolerance, but cannot stick: the force sticking needs is
+    /// outside its cone) takes the full friction against that force (`dir`) instead of the
+    /// direction of its round-off slip, so that it creeps off smoothly instead of chattering
+    /// about zero slip in ever smaller steps ([`PlayTop::friction_per_n`]).
+    pub creep: f64,
 }
 
 impl Contacts {
@@ -50,6 +56,7 @@ impl Contacts {
         mode: [Mode::Flight; MAX_PARTS],
         dir: [[0.0; 2]; MAX_PARTS],
         flat: false,
+        creep: 0.0,
     };
 
     /// The one mode that describes the whole top: slip if a part slides, else roll if a
@@ -367,8 +374,22 @@ impl PlayTop {
     /// The friction of a sliding part per unit normal force: the tangential force (space,
     /// horizontal) and the drilling torque, from the part's slip velocity `vp`, the drilling
     /// rate `wn` and the direction `dir` taken at zero slip.
-    pub fn friction_per_n(&self, vp: [f64; 3], wn: f64, dir: [f64; 2]) -> ([f64; 2], f64) {
+    pub fn friction_per_n(
+        &self,
+        vp: [f64; 3],
+        wn: f64,
+        dir: [f64; 2],
+        creep: f64,
+    ) -> ([f64; 2], f64) {
         let sp = (vp[0] * vp[0] + vp[1] * vp[1]).sqrt();
+        if creep > 0.0 && self.friction.can_stick() && dir != [0.0; 2] {
+            // Creeping: the full friction against the force sticking would need.
+            let rb = self.friction.rbar();
+            if (sp * sp + rb * rb * wn * wn).sqrt() <= creep {
+                let mu = self.friction.mu();
+                return ([-mu * dir[0], -mu * dir[1]], 0.0);
+            }
+        }
         match self.friction {
             Friction::Coulomb { mu } => {
                 if sp > 0.0 {
@@ -530,7 +551,7 @@ impl PlayTop {
                 Mode::Flight => {}
                 Mode::Slip => {
                     let vp = p.point_velocity(k.v, k.w, k.e3);
-                    let (ft, mz) = self.friction_per_n(vp, k.w[2], c.dir[i]);
+                    let (ft, mz) = self.friction_per_n(vp, k.w[2], c.dir[i], c.creep);
                     let f = [ft[0], ft[1], 1.0];
                     let t = add(add(cross(arm, f), scale(mz, EZ)), res_n);
                     let power = ft[0] * vp[0] + ft[1] * vp[1] + mz * k.w[2];
@@ -861,7 +882,7 @@ impl PlayTop {
                     let (sn, cs) = phi.sin_cos();
                     let (rx, ry) = (r * cs, r * sn);
                     let vp = [v[0] - wz * ry, v[1] + wz * rx, 0.0];
-                    let (ft, md) = self.friction_per_n(vp, wz, [0.0; 2]);
+                    let (ft, md) = self.friction_per_n(vp, wz, [0.0; 2], 0.0);
                     fx += w * ft[0];
                     fy += w * ft[1];
                     mz += w * (rx * ft[1] - ry * ft[0] + md);
@@ -976,6 +997,7 @@ impl PlayTop {
             mode: [Mode::Flight; MAX_PARTS],
             dir: prev.dir,
             flat: false,
+            creep: prev.creep,
         };
         let mut want = [Mode::Flight; MAX_PARTS];
         for i in 0..n {

@@ -21,7 +21,7 @@ KREISEL_RUSTFLAGS ?= $(shell [ "$$(uname -m)" = x86_64 ] && [ -r /proc/cpuinfo ]
 	for f in $(V3_FLAGS); do grep -m1 '^flags' /proc/cpuinfo | grep -qw $$f || exit 0; done && \
 	echo "-C target-cpu=x86-64-v3")
 
-.PHONY: demo test test-rust test-python bench lint fmt clean setup fuzz docs browser
+.PHONY: demo test test-rust test-python bench lint fmt clean setup fuzz fuzz-floor docs browser
 
 setup: $(EXT) $(VENDOR_STAMP)
 
@@ -77,6 +77,13 @@ test-python: $(EXT) $(VENDOR_STAMP) browser
 FUZZ_CALLS ?= 100000
 fuzz: $(EXT)
 	$(PY) tests/fuzz/campaign.py --calls $(FUZZ_CALLS) --timeout 3
+
+# The property-based campaign of floor runs (tests/fuzz/floor_campaign.py): random tops of 1 to
+# 4 parts, every friction law, drops, spins, flat and upside-down starts; counts by outcome.
+# `make test` runs a derandomised share of it (tests/test_floor_properties.py).
+FLOOR_RUNS ?= 10000
+fuzz-floor: $(EXT)
+	$(PY) tests/fuzz/floor_campaign.py --runs $(FLOOR_RUNS) --seed 1 --timeout 20
 
 bench: $(EXT)
 	$(PY) -m pip install --quiet -r requirements-bench.txt

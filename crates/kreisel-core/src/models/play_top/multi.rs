@@ -382,17 +382,12 @@ impl PlayTop {
         creep: f64,
     ) -> ([f64; 2], f64) {
         let sp = (vp[0] * vp[0] + vp[1] * vp[1]).sqrt();
-        if creep > 0.0 && self.friction.can_stick() && dir != [0.0; 2] {
-            // Creeping: the full friction against the force sticking would need.
-            let rb = self.friction.rbar();
-            if (sp * sp + rb * rb * wn * wn).sqrt() <= creep {
-                let mu = self.friction.mu();
-                return ([-mu * dir[0], -mu * dir[1]], 0.0);
-            }
-        }
+        // Creeping (the measure at or below `creep`, a direction set): the full friction
+        // against the force sticking would need.
+        let creeping = |d: f64| creep > 0.0 && d <= creep && dir != [0.0; 2];
         match self.friction {
             Friction::Coulomb { mu } => {
-                if sp > 0.0 {
+                if sp > 0.0 && !creeping(sp) {
                     ([-mu * vp[0] / sp, -mu * vp[1] / sp], 0.0)
                 } else {
                     ([-mu * dir[0], -mu * dir[1]], 0.0)
@@ -401,7 +396,7 @@ impl PlayTop {
             Friction::CoulombContensou { mu, .. } => {
                 let rb = self.friction.rbar();
                 let d = (sp * sp + rb * rb * wn * wn).sqrt();
-                if d > 0.0 {
+                if d > 0.0 && !creeping(d) {
                     ([-mu * vp[0] / d, -mu * vp[1] / d], -mu * rb * rb * wn / d)
                 } else {
                     ([-mu * dir[0], -mu * dir[1]], 0.0)

@@ -42,11 +42,12 @@ pub struct Contacts {
     /// The one touching part is a ring lying flat: it touches along its whole circle
     /// ([`PlayTop::flat_dynamics`]).
     pub flat: bool,
-    /// The creep speed (m/s): a sliding part whose sliding measure is at or below it (it has
-    /// stopped, to the phase's tolerance, but cannot stick: the force sticking needs is
-    /// outside its cone) takes the full friction against that force (`dir`) instead of the
-    /// direction of its round-off slip, so that it creeps off smoothly instead of chattering
-    /// about zero slip in ever smaller steps ([`PlayTop::friction_per_n`]).
+    /// The creep speed (m/s): a part sliding under Coulomb-Contensou friction whose sliding
+    /// measure is at or below it (it has stopped, to the phase's tolerance, but cannot stick:
+    /// the force sticking needs is outside its ellipse) takes the full friction against that
+    /// force (`dir`) instead of the direction of its round-off slip and drilling, so that it
+    /// creeps off instead of chattering about zero in ever smaller steps
+    /// ([`PlayTop::friction_per_n`]).
     pub creep: f64,
 }
 
@@ -374,6 +375,7 @@ impl PlayTop {
     /// The friction of a sliding part per unit normal force: the tangential force (space,
     /// horizontal) and the drilling torque, from the part's slip velocity `vp`, the drilling
     /// rate `wn` and the direction `dir` taken at zero slip.
+    #[inline(always)]
     pub fn friction_per_n(
         &self,
         vp: [f64; 3],
@@ -387,7 +389,10 @@ impl PlayTop {
         let creeping = |d: f64| creep > 0.0 && d <= creep && dir != [0.0; 2];
         match self.friction {
             Friction::Coulomb { mu } => {
-                if sp > 0.0 && !creeping(sp) {
+                // (Point Coulomb friction keeps the direction of the slip above zero: its
+                // creep at the cone's edge follows the slip, and a direction fixed at the
+                // switch would make the force jump where the two part, at every step.)
+                if sp > 0.0 {
                     ([-mu * vp[0] / sp, -mu * vp[1] / sp], 0.0)
                 } else {
                     ([-mu * dir[0], -mu * dir[1]], 0.0)

@@ -38,8 +38,9 @@ ALLOWED_STATUSES = ("completed", "event")
 TERMINAL_EVENTS = ("rest", "flat")
 #: the state columns that must be finite in every row
 STATE_COLUMNS = ("t", "quaternion", "omega", "com", "com_velocity", "u", "energy", "dissipated")
-#: a kreisel error that refuses a run and says what to change (the pace guard, the step cap)
-REFUSAL = re.compile(r"give a shorter t_end")
+#: a kreisel error that refuses a run and says what to change: the pace guard and the step
+#: cap ("give a shorter t_end"), the stall guard ("give a t_end before the stall")
+REFUSAL = re.compile(r"give a (shorter t_end|t_end before the stall)")
 
 TAU = 2.0 * math.pi
 
@@ -146,14 +147,12 @@ def _draw_part(rng, size):
 
 def _axial_half(p):
     """Half the extent of a part along the axis (its tube or semi-axis)."""
-    return {"sphere": lambda: p[1], "spheroid": lambda: p[2], "torus": lambda: p[2]}[p[0]]()
+    return p[1] if p[0] == "sphere" else p[2]
 
 
 def _lateral(p):
     """The part's largest distance from the axis."""
-    return {"sphere": lambda: p[1], "spheroid": lambda: p[1], "torus": lambda: p[1] + p[2]}[
-        p[0]
-    ]()
+    return p[1] + p[2] if p[0] == "torus" else p[1]
 
 
 def _make_part(p):
@@ -228,22 +227,38 @@ def _draw_top(rng):
         m = density * _volume(body, radius, height)
         if not 1e-3 <= m <= 3.0:
             continue
-        friction = str(rng.choice(["Frictionless", "Viscous", "Coulomb", "Coulomb",
-                                   "CoulombContensou", "CoulombContensou"]))  # fmt: skip
+        friction = str(
+            rng.choice(
+                [
+                    "Frictionless",
+                    "Viscous",
+                    "Coulomb",
+                    "Coulomb",
+                    "CoulombContensou",
+                    "CoulombContensou",
+                ]
+            )
+        )
         law = {
             "Frictionless": lambda: ["Frictionless"],
             "Viscous": lambda: ["Viscous", _log_uniform(rng, 1e-2, 5.0)],
             "Coulomb": lambda: ["Coulomb", float(rng.uniform(0.0, 1.0))],
-            "CoulombContensou": lambda: ["CoulombContensou", float(rng.uniform(0.05, 1.0)),
-                                         0.0 if rng.random() < 0.1
-                                         else _log_uniform(rng, 1e-5, 1e-3)],
-        }[friction]()  # fmt: skip
+            "CoulombContensou": lambda: [
+                "CoulombContensou",
+                float(rng.uniform(0.05, 1.0)),
+                0.0 if rng.random() < 0.1 else _log_uniform(rng, 1e-5, 1e-3),
+            ],
+        }[friction]()
         top = {
-            "m": m, "A": a_ * m, "C": c_ * m, "body": body, "friction": law,
+            "m": m,
+            "A": a_ * m,
+            "C": c_ * m,
+            "body": body,
+            "friction": law,
             "restitution": float(rng.choice([0.0, 0.0, 0.95, rng.uniform(0.0, 0.95)])),
             "rolling_resistance": 0.0 if rng.random() < 0.6 else _log_uniform(rng, 1e-5, 2e-3),
             "drilling_resistance": 0.0 if rng.random() < 0.7 else _log_uniform(rng, 1e-5, 2e-3),
-        }  # fmt: skip
+        }
         if classic:
             top.update(form="classic", s=-parts[0][2], rho=parts[0][1])
         else:
@@ -255,22 +270,33 @@ def _draw_top(rng):
 def _draw_state(rng, top):
     """The start (plain data): Euler angles and rates with an optional drop height and
     horizontal velocity, or an explicit PlayState (quaternion, omega, com, com_velocity)."""
-    theta = float(rng.choice([
-        0.0, math.pi, math.pi / 2, rng.uniform(0.0, math.pi), rng.uniform(0.0, math.pi),
-        _log_uniform(rng, 1e-9, 1e-2), math.pi - _log_uniform(rng, 1e-9, 1e-2),
-    ]))  # fmt: skip
+    theta = float(
+        rng.choice(
+            [
+                0.0,
+                math.pi,
+                math.pi / 2,
+                rng.uniform(0.0, math.pi),
+                rng.uniform(0.0, math.pi),
+                _log_uniform(rng, 1e-9, 1e-2),
+                math.pi - _log_uniform(rng, 1e-9, 1e-2),
+            ]
+        )
+    )
     drop = float(rng.choice([0.0, _log_uniform(rng, 1e-6, 0.05), rng.uniform(0.0, 0.05)]))
     if rng.random() < 0.8:
         st = {
-            "form": "euler", "theta": theta,
+            "form": "euler",
+            "theta": theta,
             "phi": 0.0 if rng.random() < 0.5 else float(rng.uniform(0.0, TAU)),
             "psi": 0.0 if rng.random() < 0.5 else float(rng.uniform(0.0, TAU)),
             "theta_dot": _rate(rng, 30.0, zero=0.6),
             "phi_dot": _rate(rng, 100.0, zero=0.5),
             "psi_dot": _rate(rng, 300.0, zero=0.3),
-            "vx": _rate(rng, 1.0, zero=0.7), "vy": _rate(rng, 1.0, zero=0.8),
+            "vx": _rate(rng, 1.0, zero=0.7),
+            "vy": _rate(rng, 1.0, zero=0.8),
             "height": None if rng.random() < 0.5 else drop,
-        }  # fmt: skip
+        }
         return st
     # explicit: a unit quaternion tilting e3 by theta about a horizontal axis (then a turn
     # about e3), G where the lowest part is `drop` above the floor
@@ -284,8 +310,13 @@ def _draw_state(rng, top):
     omega = [_rate(rng, 100.0, 0.5), _rate(rng, 100.0, 0.5), _rate(rng, 300.0, 0.3)]
     vel = [_rate(rng, 1.0, 0.6), _rate(rng, 1.0, 0.7), _rate(rng, 1.0, 0.5)]
     com = [float(rng.uniform(-0.1, 0.1)) if rng.random() < 0.3 else 0.0, 0.0, z_g]
-    return {"form": "explicit", "quaternion": [float(x) for x in q], "omega": omega,
-            "com": com, "com_velocity": vel}  # fmt: skip
+    return {
+        "form": "explicit",
+        "quaternion": [float(x) for x in q],
+        "omega": omega,
+        "com": com,
+        "com_velocity": vel,
+    }
 
 
 def _quat_zxz(phi, theta, psi):
@@ -294,8 +325,12 @@ def _quat_zxz(phi, theta, psi):
     def mul(a, b):
         w1, x1, y1, z1 = a
         w2, x2, y2, z2 = b
-        return (w1 * w2 - x1 * x2 - y1 * y2 - z1 * z2, w1 * x2 + x1 * w2 + y1 * z2 - z1 * y2,
-                w1 * y2 - x1 * z2 + y1 * w2 + z1 * x2, w1 * z2 + x1 * y2 - y1 * x2 + z1 * w2)  # fmt: skip
+        return (
+            w1 * w2 - x1 * x2 - y1 * y2 - z1 * z2,
+            w1 * x2 + x1 * w2 + y1 * z2 - z1 * y2,
+            w1 * y2 - x1 * z2 + y1 * w2 + z1 * x2,
+            w1 * z2 + x1 * y2 - y1 * x2 + z1 * w2,
+        )
 
     rz1 = (math.cos(phi / 2), 0.0, 0.0, math.sin(phi / 2))
     rx = (math.cos(theta / 2), math.sin(theta / 2), 0.0, 0.0)
@@ -342,14 +377,15 @@ def build(spec):
 
     t = spec["top"]
     law = getattr(kreisel, t["friction"][0])(*t["friction"][1:])
-    extra = {k: t[k] for k in ("restitution", "rolling_resistance", "drilling_resistance")
-             if t[k] != 0.0}  # fmt: skip
+    extra = {
+        k: t[k] for k in ("restitution", "rolling_resistance", "drilling_resistance") if t[k] != 0.0
+    }
     if t["form"] == "classic":
-        top = kreisel.PlayTop(t["m"], t["A"], t["C"], s=t["s"], rho=t["rho"], friction=law,
-                              **extra)  # fmt: skip
+        top = kreisel.PlayTop(t["m"], t["A"], t["C"], s=t["s"], rho=t["rho"], friction=law, **extra)
     else:
-        top = kreisel.PlayTop(t["m"], t["A"], t["C"], shape=[_make_part(p) for p in t["parts"]],
-                              friction=law, **extra)  # fmt: skip
+        top = kreisel.PlayTop(
+            t["m"], t["A"], t["C"], shape=[_make_part(p) for p in t["parts"]], friction=law, **extra
+        )
     s = spec["state"]
     if s["form"] == "euler":
         kw = {k: v for k, v in s.items() if k != "form" and v != 0.0 and v is not None}
@@ -358,8 +394,9 @@ def build(spec):
             kw["height"] = s["height"]
         state = top.state(**kw)
     else:
-        state = kreisel.PlayState(*(np.array(s[k], dtype=float) for k in
-                                    ("quaternion", "omega", "com", "com_velocity")))  # fmt: skip
+        state = kreisel.PlayState(
+            *(np.array(s[k], dtype=float) for k in ("quaternion", "omega", "com", "com_velocity"))
+        )
     return {"spec": spec, "top": top, "state": state}
 
 
@@ -367,27 +404,42 @@ def reproducer(spec, t_end, rtol=None):
     """A Python one-liner that builds the case's top and state and runs it."""
     t, s = spec["top"], spec["state"]
     law = f"kreisel.{t['friction'][0]}({', '.join(repr(x) for x in t['friction'][1:])})"
-    extra = "".join(f", {k}={t[k]!r}" for k in ("restitution", "rolling_resistance",
-                                                "drilling_resistance") if t[k] != 0.0)  # fmt: skip
+    extra = "".join(
+        f", {k}={t[k]!r}"
+        for k in ("restitution", "rolling_resistance", "drilling_resistance")
+        if t[k] != 0.0
+    )
     if t["form"] == "classic":
-        top = (f"top = kreisel.PlayTop({t['m']!r}, {t['A']!r}, {t['C']!r}, s={t['s']!r}, "
-               f"rho={t['rho']!r}, friction={law}{extra})")  # fmt: skip
+        top = (
+            f"top = kreisel.PlayTop({t['m']!r}, {t['A']!r}, {t['C']!r}, s={t['s']!r}, "
+            f"rho={t['rho']!r}, friction={law}{extra})"
+        )
     else:
         names = {"sphere": "Sphere", "spheroid": "Spheroid", "torus": "Torus"}
-        parts = ", ".join(f"{names[p[0]]}({', '.join(repr(x) for x in p[1:-1])}, z={p[-1]!r})"
-                          for p in t["parts"])  # fmt: skip
-        top = (f"top = kreisel.PlayTop({t['m']!r}, {t['A']!r}, {t['C']!r}, shape=[{parts}], "
-               f"friction={law}{extra})")  # fmt: skip
+        parts = ", ".join(
+            f"{names[p[0]]}({', '.join(repr(x) for x in p[1:-1])}, z={p[-1]!r})" for p in t["parts"]
+        )
+        top = (
+            f"top = kreisel.PlayTop({t['m']!r}, {t['A']!r}, {t['C']!r}, shape=[{parts}], "
+            f"friction={law}{extra})"
+        )
     if s["form"] == "euler":
-        kw = [f"theta={s['theta']!r}"] + [f"{k}={s[k]!r}" for k in
-              ("phi", "psi", "theta_dot", "phi_dot", "psi_dot", "vx", "vy") if s[k] != 0.0]  # fmt: skip
+        kw = [f"theta={s['theta']!r}"] + [
+            f"{k}={s[k]!r}"
+            for k in ("phi", "psi", "theta_dot", "phi_dot", "psi_dot", "vx", "vy")
+            if s[k] != 0.0
+        ]
         if s["height"] is not None:
             kw.append(f"height={s['height']!r}")
         state = f"st = top.state({', '.join(kw)})"
     else:
-        state = "st = kreisel.PlayState(" + ", ".join(
-            f"{k}=np.array({s[k]!r})" for k in ("quaternion", "omega", "com", "com_velocity")
-        ) + ")"  # fmt: skip
+        state = (
+            "st = kreisel.PlayState("
+            + ", ".join(
+                f"{k}=np.array({s[k]!r})" for k in ("quaternion", "omega", "com", "com_velocity")
+            )
+            + ")"
+        )
     tol = "" if rtol is None else f", rtol={rtol!r}"
     return (
         "import numpy as np, kreisel; from kreisel.shapes import Sphere, Spheroid, Torus; "
@@ -409,8 +461,9 @@ def run_case(case, t_end, rtol=None):
     kw = {} if rtol is None else {"rtol": rtol}
     case["t_end"] = t_end
     try:
-        return kreisel.simulate(case["top"], case["state"], t_end,
-                                events=[kreisel.events.rest()], **kw)  # fmt: skip
+        return kreisel.simulate(
+            case["top"], case["state"], t_end, events=[kreisel.events.rest()], **kw
+        )
     except KeyboardInterrupt:
         raise
     except BaseException as e:  # noqa: BLE001 - PanicException derives from BaseException
@@ -448,6 +501,9 @@ def check_run(case, traj):
     (e) ``status``: the run ends ``completed`` at ``t_end`` or ``event`` at a terminal
         event (``rest``, ``flat``); ``interrupted`` (nothing here cancels a run) is not
         allowed.
+    (f) ``contact_gap``: a part the trajectory has in contact (``part_in_contact``) lies on
+        the floor, ``|gap| <= GAP_TOL``: the contact flag and the geometry agree (a part
+        held in contact above the floor would be pulled down by a floor that can only push).
     """
     top, state = case["top"], case["state"]
     out = []
@@ -466,8 +522,9 @@ def check_run(case, traj):
     for name, a in cols.items():
         bad = ~np.isfinite(a.reshape(n, -1)).all(axis=1)
         if bad.any():
-            out.append(f"nonfinite: {name} at {_where(t, int(np.argmax(bad)))}, "
-                       f"{int(bad.sum())} rows")  # fmt: skip
+            out.append(
+                f"nonfinite: {name} at {_where(t, int(np.argmax(bad)))}, {int(bad.sum())} rows"
+            )
     if out:
         return out
     if t[0] != 0.0 or np.any(np.diff(t) < 0.0):
@@ -489,18 +546,20 @@ def check_run(case, traj):
     du = np.abs(cols["u"] - u_q)
     if du.max() > 1e-9:
         i = int(np.argmax(du))
-        out.append(f"column_mismatch: u differs from the quaternion's by {du[i]:.3g} at "
-                   f"{_where(t, i)}")  # fmt: skip
+        out.append(
+            f"column_mismatch: u differs from the quaternion's by {du[i]:.3g} at {_where(t, i)}"
+        )
     e = energy_of(top.m, top.A, top.C, top.g, cols["omega"], cols["com"], cols["com_velocity"])
-    e0 = float(energy_of(top.m, top.A, top.C, top.g, state.omega, state.com,
-                         state.com_velocity)[0])  # fmt: skip
+    e0 = float(energy_of(top.m, top.A, top.C, top.g, state.omega, state.com, state.com_velocity)[0])
     scale = max(abs(e0), float(np.abs(e).max()), 0.0)
     tol = ENERGY_RTOL * scale + ENERGY_ATOL
     de = np.abs(cols["energy"] - e)
     if de.max() > tol:
         i = int(np.argmax(de))
-        out.append(f"column_mismatch: energy differs from m v^2/2 + rotation + m g z_G by "
-                   f"{de[i]:.3g} J at {_where(t, i)}")  # fmt: skip
+        out.append(
+            f"column_mismatch: energy differs from m v^2/2 + rotation + m g z_G by "
+            f"{de[i]:.3g} J at {_where(t, i)}"
+        )
 
     # (c) energy
     d = cols["dissipated"]
@@ -508,26 +567,41 @@ def check_run(case, traj):
     rise = total - e0
     if rise.max() > tol:
         i = int(np.argmax(rise))
-        out.append(f"energy_rise: E + dissipated exceeds the start's {e0:.6g} J by "
-                   f"{rise[i]:.3g} J ({rise[i] / scale:.2g} relative) at {_where(t, i)}")  # fmt: skip
+        out.append(
+            f"energy_rise: E + dissipated exceeds the start's {e0:.6g} J by "
+            f"{rise[i]:.3g} J ({rise[i] / scale:.2g} relative) at {_where(t, i)}"
+        )
     if n > 1:
         step = np.diff(e)
         if step.max() > tol:
             i = int(np.argmax(step))
-            out.append(f"energy_step_rise: E rises by {step[i]:.3g} J "
-                       f"({step[i] / scale:.2g} relative) from {_where(t, i)} to the next")  # fmt: skip
+            out.append(
+                f"energy_step_rise: E rises by {step[i]:.3g} J "
+                f"({step[i] / scale:.2g} relative) from {_where(t, i)} to the next"
+            )
         dd = np.diff(d)
         if dd.min() < -tol:
             i = int(np.argmin(dd))
-            out.append(f"dissipated_decrease: dissipated falls by {-dd[i]:.3g} J after "
-                       f"{_where(t, i)}")  # fmt: skip
+            out.append(
+                f"dissipated_decrease: dissipated falls by {-dd[i]:.3g} J after {_where(t, i)}"
+            )
     lost = e0 - total[0]
     if lost > tol:
-        out.append(f"start_energy_unaccounted: the first row has {lost:.3g} J less than the "
-                   f"given state ({lost / scale:.2g} relative) and dissipated = {d[0]!r}")  # fmt: skip
+        out.append(
+            f"start_energy_unaccounted: the first row has {lost:.3g} J less than the "
+            f"given state ({lost / scale:.2g} relative) and dissipated = {d[0]!r}"
+        )
 
     # (a), (b) the floor
     gaps = part_gaps(top.shape, traj)
+    try:
+        contact = np.asarray(traj["part_in_contact"], dtype=bool).reshape(n, -1).T
+        if contact.shape != gaps.shape:
+            out.append(f"column_mismatch: part_in_contact has shape {contact.shape[::-1]}")
+            contact = None
+    except Exception as e:  # noqa: BLE001
+        out.append(f"nonfinite: column 'part_in_contact' unreadable: {type(e).__name__}: {e}")
+        contact = None
     names = top.part_names
     touchdowns = {}
     for ev in events:
@@ -537,17 +611,28 @@ def check_run(case, traj):
         below = g < -GAP_TOL
         if below.any():
             i = int(np.argmin(g))
-            out.append(f"below_floor: part {names[k]!r} {-g[i]:.3g} m below the floor at "
-                       f"{_where(t, i)} ({int(below.sum())} of {n} rows, first at "
-                       f"t = {t[int(np.argmax(below))]:.9g} s)")  # fmt: skip
+            out.append(
+                f"below_floor: part {names[k]!r} {-g[i]:.3g} m below the floor at "
+                f"{_where(t, i)} ({int(below.sum())} of {n} rows, first at "
+                f"t = {t[int(np.argmax(below))]:.9g} s)"
+            )
+        flagged = contact[k] & (np.abs(g) > GAP_TOL) if contact is not None else None
+        if flagged is not None and flagged.any():
+            i = int(np.argmax(np.where(flagged, np.abs(g), -1.0)))
+            out.append(
+                f"contact_gap: part {names[k]!r} is in contact {g[i]:.3g} m from the "
+                f"floor at {_where(t, i)} ({int(flagged.sum())} rows)"
+            )
         crossing = np.nonzero((g[:-1] > 0.0) & below[1:])[0]
         tds = np.array(touchdowns.get(names[k], []))
         missed = [i for i in crossing if not np.any((tds >= t[i]) & (tds <= t[i + 1]))]
         if missed:
             i = missed[0]
-            out.append(f"missed_touchdown: part {names[k]!r} went from {g[i]:.3g} m to "
-                       f"{g[i + 1]:.3g} m between t = {t[i]:.9g} and {t[i + 1]:.9g} s with no "
-                       f"touchdown event ({len(missed)} such crossings)")  # fmt: skip
+            out.append(
+                f"missed_touchdown: part {names[k]!r} went from {g[i]:.3g} m to "
+                f"{g[i + 1]:.3g} m between t = {t[i]:.9g} and {t[i + 1]:.9g} s with no "
+                f"touchdown event ({len(missed)} such crossings)"
+            )
     return out
 
 
@@ -561,7 +646,7 @@ def outcome(case, result):
 
     - ``("ok", [])``: a trajectory with no violation;
     - ``("refused", [message])``: a kreisel error that refuses the run and says what to
-      change (:data:`REFUSAL`: the pace guard, the step cap) -- acceptable, counted apart;
+      change (:data:`REFUSAL`: the pace, step and stall guards) -- acceptable, counted apart;
     - ``("violation", [...])``: :func:`check_run`'s list, or ``"error: ..."`` for any other
       exception (a kreisel error that names no remedy, a numpy error, a Rust panic:
       ``"panic: ..."``).

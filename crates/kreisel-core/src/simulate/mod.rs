@@ -68,10 +68,11 @@ pub fn method(name: &str) -> Result<MethodInfo> {
 /// The most steps a run may take (adaptive step attempts, or fixed steps `t_end / dt`).
 pub const MAX_STEPS: u64 = 100_000_000;
 
-/// The most rows a run keeps (one per step without `t_eval`): about 2 GB of a play top's
-/// rows. A run that reaches it stops with an error naming `t_end` and `t_eval`, instead of
-/// growing until the allocator fails.
-pub const MAX_ROWS: usize = 10_000_000;
+/// The most rows a run keeps (one per step without `t_eval`): 4 million, about 0.8 GB of a
+/// play top's rows in the core and about 3 GB at the peak of their columns in Python. A run
+/// that reaches it stops with an error naming `t_end` and `t_eval`, instead of growing until
+/// the allocator fails.
+pub const MAX_ROWS: usize = 4_000_000;
 
 /// What an event function looks at.
 #[derive(Debug, Clone, Copy, PartialEq)]

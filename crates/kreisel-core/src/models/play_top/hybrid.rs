@@ -724,7 +724,10 @@ pub(crate) fn drive<H: Hybrid>(
     let t_end = settings.t_end;
     let mut info = RunInfo::default();
     let mut y = *y0;
+    let e_given = top.kinetic_energy(&y) + top.m * top.g * y[9] + y[13];
     let (mut phase, jam) = h.start(&mut y, settings.rtol);
+    // Putting the start on its contacts (or its impact at t = 0) keeps E + dissipated too.
+    no_energy_from_a_switch(top, &mut y, e_given);
     if let Some(sw) = jam {
         let (name, part) = h.record(sw);
         info.events.push(EventRecord {

@@ -281,7 +281,7 @@ impl PlayTop {
             Switch::Jam => {
                 // The tangential impact: an impulse that stops the slip, sticking if the
                 // cone allows, else sliding until the slip along its direction is gone.
-                let (yi, sticks) = match self.viscous_impact(y, 0) {
+                let (yi, sticks) = match self.jam_impact(y, 0) {
                     Some(yi) => (yi, 0),
                     None => self.multi_impact(y, 1, [0.0; 4]),
                 };

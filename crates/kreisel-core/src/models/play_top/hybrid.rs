@@ -415,7 +415,19 @@ impl Hybrid for Multi<'_> {
                 top.slide_measure(vp, k.w[2]) - eps
             }
             MSwitch::RollToSlip(i) => top.stick_margin(&forces(), i),
-            MSwitch::Jam(i) => forces().den[i] - self.jam_level(),
+            MSwitch::Jam(i) => {
+                // Sliding's own coefficient falls to the jam level, or the normal force it
+                // gives grows past a hundred weights (the coefficient heading for zero
+                // faster than the steps can follow): either way the tangential impact.
+                let f = forces();
+                let cap = 1e2 * top.m * top.g;
+                let own = (f.den[i] - self.jam_level()) / self.jam_level();
+                if cap > 0.0 {
+                    own.min((cap - f.n[i]) / cap)
+                } else {
+                    own
+                }
+            }
             MSwitch::Flat(_) => {
                 let u = top.mkin(y).e3[2];
                 (1.0 - u * u).max(0.0).sqrt() - FLAT_LEVEL
@@ -599,9 +611,10 @@ impl Hybrid for Multi<'_> {
                 // The tangential impact of the Painleve case: an impulse at the part that
                 // stops its slip, sticking if the cone allows, else sliding until the slip
                 // along its direction is gone.
-                let (yi, _) = top.multi_impact(y, c.mask(n), [0.0; 4]);
-                *y = yi;
-                let _ = i;
+                *y = match top.jam_impact(y, i) {
+                    Some(yi) => yi,
+                    None => top.multi_impact(y, c.mask(n), [0.0; 4]).0,
+                };
                 self.after_impulse(y, &c, rtol)
             }
         }

@@ -340,6 +340,17 @@ enum Unknown {
     StickM(usize),
 }
 
+/// The solution x of `sum_j x_j cols[j] = b` (three columns; Cramer's rule).
+fn solve3_cols(cols: [[f64; 3]; 3], b: [f64; 3]) -> [f64; 3] {
+    let det = |a: [f64; 3], c: [f64; 3], d: [f64; 3]| dot(a, cross(c, d));
+    let d = det(cols[0], cols[1], cols[2]);
+    [
+        det(b, cols[1], cols[2]) / d,
+        det(cols[0], b, cols[2]) / d,
+        det(cols[0], cols[1], b) / d,
+    ]
+}
+
 impl PlayTop {
     /// The space-frame kinematics of a state.
     #[inline]
@@ -967,7 +978,7 @@ impl PlayTop {
             // Viscous friction: each candidate's slip decays through its own impact.
             for i in 0..self.parts.n {
                 if cand & (1 << i) != 0 {
-                    if let Some(yi) = self.viscous_impact(y, i) {
+                    if let Some(yi) = self.jam_impact(y, i) {
                         *y = yi;
                     }
                 }
@@ -1180,20 +1191,28 @@ impl PlayTop {
         y[13] += (before - self.kinetic_energy(y)).max(0.0);
     }
 
-    /// The tangential impact of a part jammed under viscous friction (the Painleve case of
-    /// a viscous law: sliding fast enough that the friction's lever makes sliding's own
-    /// coefficient negative, so that neither sliding nor flight is consistent). The impact is
-    /// integrated in the normal impulse `lambda` (Darboux-Keller): the impulse grows as
-    /// `dP = (ez - mu v_t) dlambda` (the viscous law `F_t = -mu N v_t` at every instant of
-    /// the impact), the contact point's velocity as `dv = K dP` with `K` the contact's
+    /// The tangential impact of a jammed part (the Painleve case: sliding so that the
+    /// friction's lever makes sliding's own coefficient negative, so that neither sliding nor
+    /// flight is consistent). The impact is integrated in the normal impulse `lambda`
+    /// (Darboux-Keller): the impulse grows as `dP = (ez + f(v_t)) dlambda` with `f` the
+    /// friction per unit normal force of the law at the current slip (`-mu v_t` viscous,
+    /// `-mu v_t / |v_t|` Coulomb and Coulomb-Contensou, whose drilling part is left out of
+    /// the impulse), the contact point's velocity as `dv = K dP` with `K` the contact's
     /// inverse effective mass. The normal velocity first falls (compression) while the slip
     /// decays; the impact ends when it is back to zero (no rebound), with sliding consistent
-    /// again. Returns the state after the impulse (the kinetic energy it takes added to the
-    /// dissipated energy), or None where the law is not viscous or the process does not end.
-    pub fn viscous_impact(&self, y: &[f64; DIM], i: usize) -> Option<[f64; DIM]> {
-        let Friction::Viscous { mu } = self.friction else {
-            return None;
+    /// again. Where a Coulomb slip stops on the way, the rest of the impact is the impulse that
+    /// stops the contact point (it sticks). Returns the state after the impulse (the kinetic
+    /// energy it takes added to the dissipated energy), or None where the part is not jammed,
+    /// has no friction, or the process does not end.
+    pub fn jam_impact(&self, y: &[f64; DIM], i: usize) -> Option<[f64; DIM]> {
+        let (mu, viscous) = match self.friction {
+            Friction::Viscous { mu } => (mu, true),
+            Friction::Coulomb { mu } | Friction::CoulombContensou { mu, .. } => (mu, false),
+            Friction::Frictionless => return None,
         };
+        if mu <= 0.0 {
+            return None;
+        }
         let k = self.mkin(y);
         let arm = self.part(i).arm(k.e3);
         // K: the contact point's velocity change per unit impulse (columns).
@@ -1202,20 +1221,54 @@ impl PlayTop {
             add(dv, cross(dw, arm))
         };
         let kc = [col(EX), col(EY), col(EZ)];
-        let kmul = |p: [f64; 3]| add(add(scale(p[0], kc[0]), scale(p[1], kc[1])), scale(p[2], kc[2]));
+        let kmul =
+            |p: [f64; 3]| add(add(scale(p[0], kc[0]), scale(p[1], kc[1])), scale(p[2], kc[2]));
         let v0 = self.part(i).point_velocity(k.v, k.w, k.e3);
-        let slope = |v: [f64; 3]| [-mu * v[0], -mu * v[1], 1.0];
-        // Steps in lambda small against the slip's decay rate mu |K| and the velocity's scale.
+        let vs = self.multi_speed_scale(y);
+        let vstop = 1e-12 * vs;
+        let slope = |v: [f64; 3]| {
+            if viscous {
+                [-mu * v[0], -mu * v[1], 1.0]
+            } else {
+                let sp = v[0].hypot(v[1]).max(vstop);
+                [-mu * v[0] / sp, -mu * v[1] / sp, 1.0]
+            }
+        };
         let knorm = kc.iter().map(|c| dot(*c, *c).sqrt()).fold(0.0, f64::max);
-        if knorm <= 0.0 || mu <= 0.0 {
+        if knorm <= 0.0 {
             return None;
         }
-        let vs = self.multi_speed_scale(y);
-        let h_max = 0.02 / (mu * knorm);
+        // Steps in lambda small against the slip's decay and the velocity's scale.
+        let h_max = if viscous {
+            0.02 / (mu * knorm)
+        } else {
+            1e-3 * v0[0].hypot(v0[1]).max(1e-3 * vs) / (mu * knorm)
+        };
         let mut h = h_max.min(1e-3 * vs / knorm);
         let (mut v, mut p) = (v0, ZERO);
         let mut compressed = false;
+        let apply = |p: [f64; 3]| {
+            let mut out = *y;
+            let (dv, dw) = self.response(&k, p, cross(arm, p));
+            let dwb = k.to_body(dw);
+            for ax in 0..3 {
+                out[4 + ax] += dwb[ax];
+                out[10 + ax] += dv[ax];
+            }
+            let ke = self.kinetic_energy(y);
+            let loss = ke - self.kinetic_energy(&out);
+            if loss < -1e-12 * ke {
+                return None;
+            }
+            out[13] += loss.max(0.0);
+            Some(out)
+        };
         for _ in 0..200_000 {
+            if !viscous && v[0].hypot(v[1]) <= 10.0 * vstop {
+                // The slip has stopped: the rest of the impact stops the contact point.
+                let stop = solve3_cols(kc, scale(-1.0, v));
+                return apply(add(p, stop));
+            }
             // RK4 on dv/dlambda = K slope(v), dP/dlambda = slope(v).
             let s1 = slope(v);
             let s2 = slope(add(v, scale(0.5 * h, kmul(s1))));
@@ -1223,29 +1276,28 @@ impl PlayTop {
             let s4 = slope(add(v, scale(h, kmul(s3))));
             let dp = scale(h / 6.0, add(add(s1, scale(2.0, s2)), add(scale(2.0, s3), s4)));
             let vn = add(v, kmul(dp));
+            if !viscous && dot([v[0], v[1], 0.0], [vn[0], vn[1], 0.0]) <= 0.0 {
+                // The slip would reverse inside this step: a smaller one.
+                h *= 0.25;
+                if h < 1e-300 {
+                    return None;
+                }
+                continue;
+            }
             if compressed && vn[2] >= 0.0 {
                 // The end of the impact inside this step: the fraction of it that brings the
                 // normal velocity back to zero (linear in the step).
                 let f = if vn[2] > v[2] { -v[2] / (vn[2] - v[2]) } else { 1.0 };
-                p = add(p, scale(f.clamp(0.0, 1.0), dp));
-                let mut out = *y;
-                let torque = cross(arm, p);
-                let (dv, dw) = self.response(&k, p, torque);
-                let dwb = k.to_body(dw);
-                for ax in 0..3 {
-                    out[4 + ax] += dwb[ax];
-                    out[10 + ax] += dv[ax];
-                }
-                let loss = self.kinetic_energy(y) - self.kinetic_energy(&out);
-                if loss < -1e-12 * self.kinetic_energy(y) {
-                    return None;
-                }
-                out[13] += loss.max(0.0);
-                return Some(out);
+                return apply(add(p, scale(f.clamp(0.0, 1.0), dp)));
             }
             if !compressed && vn[2] >= v[2] {
-                // Not jammed: the normal velocity rises at once, no impact is needed.
-                return None;
+                // Sliding's own coefficient is still (just) positive: the normal force is
+                // growing without bound as it heads for zero (the dynamic jam), and its
+                // friction stops the slip first. That is the impulse that stops the contact
+                // point, where it lies in the friction cone.
+                let stop = solve3_cols(kc, scale(-1.0, v0));
+                let inside = stop[2] > 0.0 && stop[0].hypot(stop[1]) <= mu * stop[2];
+                return if !viscous && inside { apply(stop) } else { None };
             }
             compressed |= vn[2] < 0.0;
             v = vn;

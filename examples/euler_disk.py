@@ -12,8 +12,9 @@ inclination alpha, on log scales, with the steady law of the thick disk, Omega^2
 (A cos(alpha) - C k sin(alpha)) = m g a (cos(alpha) - k sin(alpha)), k = h / (2 a)
 (PHYSICS 4.5 at k = 0; kreisel.bodies.disk_rolling_rates): as the disk settles it follows the
 law, Omega ~ alpha^(-1/2) towards flat (Moffatt, Nature 404 (2000) 833). Right: alpha and
-the energy against time; the run ends with the event "flat" (sin(alpha) = 1e-4) at a finite
-time. Writes euler_disk.png.
+the energy against time; the disk lies flat (the event "flat", sin(alpha) = 1e-4) at a finite
+time, then spins down on its face and rests (the event "rest" ends the run). Writes
+euler_disk.png.
 """
 
 import numpy as np
@@ -30,7 +31,7 @@ disk = bodies.disk(a, h, m, friction=kreisel.CoulombContensou(0.3, patch),
                    rolling_resistance=2e-4)  # fmt: skip
 alpha0 = 0.3
 state = bodies.disk_rolling_state(disk, alpha0)
-run = kreisel.simulate(disk, state, 30.0, rtol=1e-8)
+run = kreisel.simulate(disk, state, 30.0, rtol=1e-8, events=[kreisel.events.rest()])
 flat = next(e.t for e in run.events if e.name == "flat")
 print(f"flat at {flat:.4f} s after {run.stats['steps']} steps")
 

@@ -52,7 +52,7 @@ TAU = 2.0 * math.pi
 
 def support(part, u):
     """``phi(u)``: how far a part's lowest point lies below its centre when the figure axis
-    makes ``u = cos(theta)`` with the vertical (PHYSICS notes 4.1).
+    makes ``u = cos(theta)`` with the vertical (the play guide, "Bodies of revolution").
 
     - sphere of radius r (r = 0: a sharp point): ``r``;
     - spheroid (equatorial a across the axis, axial b along it): the support function of an

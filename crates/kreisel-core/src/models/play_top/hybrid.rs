@@ -257,12 +257,11 @@ impl<'a> Multi<'a> {
         let cand = top.touching(y, 1e-9 * l, 1e-9 * vscale);
         let eps = self.tolerance(y, rtol);
         // A ring that comes down flat and does not bounce lies flat.
-        let flat = top.lying_flat(y, 1e-9 * l).filter(|&i| cand & (1 << i) != 0);
+        let flat = top
+            .lying_flat(y, 1e-9 * l)
+            .filter(|&i| cand & (1 << i) != 0);
         let contacts = if let Some(i) = flat {
-            top.flat_contacts(
-                i,
-                top.friction.can_stick() && top.flat_slide(i, y) <= eps,
-            )
+            top.flat_contacts(i, top.friction.can_stick() && top.flat_slide(i, y) <= eps)
         } else if cand == 0 {
             Contacts::NONE
         } else {
@@ -313,7 +312,10 @@ impl Hybrid for Multi<'_> {
         }
         // Parts moving away from the floor fly.
         let cand = top.touching(y, 1e-12 * l, vtol);
-        if let Some(i) = top.lying_flat(y, 1e-12 * l).filter(|&i| cand & (1 << i) != 0) {
+        if let Some(i) = top
+            .lying_flat(y, 1e-12 * l)
+            .filter(|&i| cand & (1 << i) != 0)
+        {
             // A ring that starts lying flat lies flat (sliding, or stuck where it is still).
             let stuck = top.friction.can_stick() && top.flat_slide(i, y) <= eps;
             let c = top.flat_contacts(i, stuck);
@@ -451,7 +453,6 @@ impl Hybrid for Multi<'_> {
         self.2.set(floor);
     }
 
-
     fn apply(&self, sw: MSwitch, phase: &MPhase, y: &mut [f64; DIM], rtol: f64) -> MPhase {
         let top = self.0;
         let n = top.parts.n;
@@ -472,7 +473,9 @@ impl Hybrid for Multi<'_> {
                     hop: f64::INFINITY,
                 }
             }
-            MSwitch::Touchdown(i) if c.mask(n) == 0 && top.lying_flat(y, 1e-9 * top.reach()) == Some(i) => {
+            MSwitch::Touchdown(i)
+                if c.mask(n) == 0 && top.lying_flat(y, 1e-9 * top.reach()) == Some(i) =>
+            {
                 // A ring comes down flat: the whole rim strikes at once.
                 if top.flat_impact(i, y, top.restitution) {
                     MPhase {
@@ -484,7 +487,10 @@ impl Hybrid for Multi<'_> {
                     let stuck = top.friction.can_stick() && top.flat_slide(i, y) <= eps;
                     let c = top.flat_contacts(i, stuck);
                     top.multi_project(&c, y);
-                    MPhase { contacts: c, hop: f64::INFINITY }
+                    MPhase {
+                        contacts: c,
+                        hop: f64::INFINITY,
+                    }
                 }
             }
             MSwitch::Touchdown(i) => {

@@ -1221,8 +1221,12 @@ impl PlayTop {
             add(dv, cross(dw, arm))
         };
         let kc = [col(EX), col(EY), col(EZ)];
-        let kmul =
-            |p: [f64; 3]| add(add(scale(p[0], kc[0]), scale(p[1], kc[1])), scale(p[2], kc[2]));
+        let kmul = |p: [f64; 3]| {
+            add(
+                add(scale(p[0], kc[0]), scale(p[1], kc[1])),
+                scale(p[2], kc[2]),
+            )
+        };
         let v0 = self.part(i).point_velocity(k.v, k.w, k.e3);
         let vs = self.multi_speed_scale(y);
         let vstop = 1e-12 * vs;
@@ -1274,7 +1278,10 @@ impl PlayTop {
             let s2 = slope(add(v, scale(0.5 * h, kmul(s1))));
             let s3 = slope(add(v, scale(0.5 * h, kmul(s2))));
             let s4 = slope(add(v, scale(h, kmul(s3))));
-            let dp = scale(h / 6.0, add(add(s1, scale(2.0, s2)), add(scale(2.0, s3), s4)));
+            let dp = scale(
+                h / 6.0,
+                add(add(s1, scale(2.0, s2)), add(scale(2.0, s3), s4)),
+            );
             let vn = add(v, kmul(dp));
             if !viscous && dot([v[0], v[1], 0.0], [vn[0], vn[1], 0.0]) <= 0.0 {
                 // The slip would reverse inside this step: a smaller one.
@@ -1287,7 +1294,11 @@ impl PlayTop {
             if compressed && vn[2] >= 0.0 {
                 // The end of the impact inside this step: the fraction of it that brings the
                 // normal velocity back to zero (linear in the step).
-                let f = if vn[2] > v[2] { -v[2] / (vn[2] - v[2]) } else { 1.0 };
+                let f = if vn[2] > v[2] {
+                    -v[2] / (vn[2] - v[2])
+                } else {
+                    1.0
+                };
                 return apply(add(p, scale(f.clamp(0.0, 1.0), dp)));
             }
             if !compressed && vn[2] >= v[2] {
@@ -1297,7 +1308,11 @@ impl PlayTop {
                 // point, where it lies in the friction cone.
                 let stop = solve3_cols(kc, scale(-1.0, v0));
                 let inside = stop[2] > 0.0 && stop[0].hypot(stop[1]) <= mu * stop[2];
-                return if !viscous && inside { apply(stop) } else { None };
+                return if !viscous && inside {
+                    apply(stop)
+                } else {
+                    None
+                };
             }
             compressed |= vn[2] < 0.0;
             v = vn;

@@ -200,11 +200,7 @@ impl Shape {
                 } else {
                     (0.0, 0.0)
                 };
-                [
-                    (z + kh) * e3[0],
-                    (z + kh) * e3[1],
-                    z * u - dz - minor,
-                ]
+                [(z + kh) * e3[0], (z + kh) * e3[1], z * u - dz - minor]
             }
             _ => {
                 let u = e3[2];

@@ -671,11 +671,16 @@ fn unwrap(last: f64, angle: f64) -> f64 {
 /// An integrator's failure as the user reads it: where it stopped, and for the step cap what
 /// to change (`t_end`, the tolerances).
 pub(crate) fn integrate_error(e: crate::integrate::IntegrateError, t_end: f64) -> KreiselError {
-    use crate::integrate::IntegrateError::TooManySteps;
+    use crate::integrate::IntegrateError::{StepSizeTooSmall, TooManySteps};
     match e {
         TooManySteps { .. } => KreiselError::Numerical(format!(
             "{e} before t_end = {}: give a shorter t_end or looser tolerances (rtol, atol)",
             crate::error::repr(t_end)
+        )),
+        StepSizeTooSmall { .. } => KreiselError::Numerical(format!(
+            "{e}: the equations are singular or too stiff there for the method's steps (on a \
+             floor: a contact force growing without bound, or friction at the edge of its \
+             cone); give a t_end before the stall or looser tolerances (rtol, atol)"
         )),
         _ => KreiselError::Numerical(format!("{e}")),
     }

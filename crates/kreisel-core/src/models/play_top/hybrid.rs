@@ -770,6 +770,7 @@ pub(crate) fn drive<H: Hybrid>(
     };
     let mut first = true;
     let mut stopped = false;
+    let mut n_switches = 0usize;
     loop {
         let integrator = Dop853 {
             rtol: settings.rtol,
@@ -892,7 +893,17 @@ pub(crate) fn drive<H: Hybrid>(
         // Other parts that the switch lifted off, put down, stuck or set sliding at the same
         // instant (an impulse, or parts that stick jointly).
         let after = h.row(&phase, &y).contacts.mode;
-        let own = h.record(switch).1;
+        let (own_name, own) = h.record(switch);
+        n_switches += 1;
+        if own_name == "slip_to_roll" && own.is_some_and(|i| after[i] == Mode::Slip) {
+            // The part could not stick (its friction cannot hold it): it slides on, and no
+            // slip_to_roll is recorded.
+            if let Some(k) = info.events.iter().rposition(|e| {
+                e.index.is_none() && e.name == own_name && e.part == own && e.t == t
+            }) {
+                info.events.remove(k);
+            }
+        }
         for i in 0..top.parts.n {
             let name = match (before[i], after[i]) {
                 (Mode::Flight, Mode::Flight)
@@ -937,7 +948,7 @@ pub(crate) fn drive<H: Hybrid>(
         if stopped {
             break;
         }
-        if info.events.len() > MAX_SWITCHES {
+        if n_switches > MAX_SWITCHES {
             return Err(KreiselError::Numerical(format!(
                 "play top: more than {MAX_SWITCHES} mode switches before t = {t} \
                  (chattering); the model's contact modes do not settle here"

@@ -533,9 +533,12 @@ def _report(problem, data: dict, out: Path):
             else f"  parts: {', '.join(a['parts'])}"
         )
         ends = [e for e in res["events"] if e["name"] in ("flat", "rest")]
+        # A run that ends at rest is at rest, whatever contact mode its last step was in.
+        at_rest = bool(res["events"]) and res["events"][-1]["name"] == "rest"
         click.echo(
             head
-            + f"; final u = {_num(res['final']['u'], '.5f')} ({res['final']['mode']})"
+            + f"; final u = {_num(res['final']['u'], '.5f')} "
+            + f"({'at rest' if at_rest else res['final']['mode']})"
             + (f"; u rose through 0.9 at t = {_num(inv, '.4f')} s" if inv is not None else "")
             + "".join(f"; {e['name']} at t = {_num(e['t'], '.4f')} s" for e in ends)
         )

@@ -234,6 +234,19 @@ impl<'a> Multi<'a> {
         self.0.jam_level()
     }
 
+    /// Ring part `i` lies flat from `y` on: sliding, or stuck where its sliding is within the
+    /// tolerance and its law can stick; `y` put on the flat contact.
+    fn lie_flat(&self, i: usize, y: &mut [f64; DIM], rtol: f64) -> MPhase {
+        let top = self.0;
+        let stuck = top.friction.can_stick() && top.flat_slide(i, y) <= self.tolerance(y, rtol);
+        let contacts = top.flat_contacts(i, stuck);
+        top.multi_project(&contacts, y);
+        MPhase {
+            contacts,
+            hop: f64::INFINITY,
+        }
+    }
+
     /// After an impulse: the parts touching and not separating resolved into modes, the
     /// rest in flight; the bounce's expected flight time.
     fn after_impulse(&self, y: &mut [f64; DIM], prev: &Contacts, rtol: f64) -> MPhase {
@@ -317,16 +330,7 @@ impl Hybrid for Multi<'_> {
             .filter(|&i| cand & (1 << i) != 0)
         {
             // A ring that starts lying flat lies flat (sliding, or stuck where it is still).
-            let stuck = top.friction.can_stick() && top.flat_slide(i, y) <= eps;
-            let c = top.flat_contacts(i, stuck);
-            top.multi_project(&c, y);
-            return (
-                MPhase {
-                    contacts: c,
-                    hop: f64::INFINITY,
-                },
-                None,
-            );
+            return (self.lie_flat(i, y, rtol), None);
         }
         let (mut contacts, jam) = if cand == 0 {
             (Contacts::NONE, false)
@@ -483,14 +487,7 @@ impl Hybrid for Multi<'_> {
                         hop: 2.0 * y[12] / top.g,
                     }
                 } else {
-                    let eps = self.tolerance(y, rtol);
-                    let stuck = top.friction.can_stick() && top.flat_slide(i, y) <= eps;
-                    let c = top.flat_contacts(i, stuck);
-                    top.multi_project(&c, y);
-                    MPhase {
-                        contacts: c,
-                        hop: f64::INFINITY,
-                    }
+                    self.lie_flat(i, y, rtol)
                 }
             }
             MSwitch::Touchdown(i) => {
@@ -604,14 +601,7 @@ impl Hybrid for Multi<'_> {
             }
             MSwitch::Flat(i) => {
                 // The ring comes down flat: the plastic impact of its face, then it lies flat.
-                let eps = self.tolerance(y, rtol);
-                let stuck = top.friction.can_stick() && top.flat_slide(i, y) <= eps;
-                let c = top.flat_contacts(i, stuck);
-                top.multi_project(&c, y);
-                MPhase {
-                    contacts: c,
-                    hop: f64::INFINITY,
-                }
+                self.lie_flat(i, y, rtol)
             }
             MSwitch::Jam(i) => {
                 // The tangential impact of the Painleve case: an impulse at the part that
@@ -898,9 +888,11 @@ pub(crate) fn drive<H: Hybrid>(
         if own_name == "slip_to_roll" && own.is_some_and(|i| after[i] == Mode::Slip) {
             // The part could not stick (its friction cannot hold it): it slides on, and no
             // slip_to_roll is recorded.
-            if let Some(k) = info.events.iter().rposition(|e| {
-                e.index.is_none() && e.name == own_name && e.part == own && e.t == t
-            }) {
+            if let Some(k) = info
+                .events
+                .iter()
+                .rposition(|e| e.index.is_none() && e.name == own_name && e.part == own && e.t == t)
+            {
                 info.events.remove(k);
             }
         }

@@ -4,7 +4,8 @@
 
 A uniform steel disk (density 7850 kg/m^3) of radius a = 0.0375 m and thickness h = 0.0125 m
 (the toy's size), started rolling with its centre at rest at inclination alpha0 = 0.3 rad of
-its axis to the vertical (BENCHMARKS.md case T4; PHYSICS.md 4.5). Run to the time it lies flat
+its axis to the vertical (docs/benchmarks.md, case T4; theory: bodies of revolution). Run to the
+time it lies flat
 (sin(alpha) < 1e-4, kreisel's event "flat") or to 30 s.
 
 Friction, the same coefficients in both: sliding mu = 0.3, torsional (drilling) 1e-4 m,
@@ -23,7 +24,8 @@ of the gravity torque with the turning of L gives the steady precession of the t
 
     Omega^2 sin(alpha) (A cos(alpha) - C k sin(alpha)) = m g a (cos(alpha) - k sin(alpha)),
 
-which is PHYSICS 4.5's Omega^2 sin(alpha) = m g a / A at k = 0 (2.6 % below it at 0.3 rad
+which is the thin disk's Omega^2 sin(alpha) = m g a / A at k = 0 (theory: bodies of revolution;
+2.6 % below it at 0.3 rad
 here); the thin formula would start the thick disk off its steady motion. Both programs get
 the same state: MuJoCo's qpos is kreisel's centre of mass and quaternion (the cylinder's axis
 is the body z axis, e3), its qvel kreisel's body angular velocity (a free joint's angular

@@ -16,7 +16,7 @@ crossing interpolated linearly between the two steps around it), and the largest
 drift of Jellett's integral J = L.(s e3 + rho ez), which the sliding friction must keep.
 Result: benchmarks/results-play.json.
 
-The peer's equations (PHYSICS.md section 3): G's horizontal position and velocity, the unit
+The peer's equations (theory: play top): G's horizontal position and velocity, the unit
 quaternion q (body -> space) and the body angular velocity omega are integrated; G's height
 and vertical velocity follow from the contact (z_G = rho + s u, dz_G/dt = s du/dt). The
 contact force is N (ez - mu v_T) at T = Z - rho ez, a = GT = -s e3 - rho ez; N comes from

@@ -10,7 +10,8 @@ rolling with its centre at rest at 0.3 rad on its steady law.
 Left: the precession rate Omega (the turning rate of the axis about the vertical) against the
 inclination alpha, on log scales, with the steady law of the thick disk, Omega^2 sin(alpha)
 (A cos(alpha) - C k sin(alpha)) = m g a (cos(alpha) - k sin(alpha)), k = h / (2 a)
-(PHYSICS 4.5 at k = 0; kreisel.bodies.disk_rolling_rates): as the disk settles it follows the
+(theory: bodies of revolution at k = 0; kreisel.bodies.disk_rolling_rates): as the disk settles it
+follows the
 law, Omega ~ alpha^(-1/2) towards flat (Moffatt, Nature 404 (2000) 833). Right: alpha and
 the energy against time; the disk lies flat (the event "flat", sin(alpha) = 1e-4) at a finite
 time, then spins down on its face and rests (the event "rest" ends the run). Writes

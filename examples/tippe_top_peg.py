@@ -2,7 +2,7 @@
 =======================================================================
 
 Figure: Leine and Glocker's tippe top (a 15 mm ball with a 5 mm peg, Coulomb-Contensou
-friction mu = 0.3 over a 0.5 mm patch; PHYSICS notes 4.4) spun at 180 rad/s near hanging:
+friction mu = 0.3 over a 0.5 mm patch; theory: bodies of revolution) spun at 180 rad/s near hanging:
 u = cos(theta), the normal force at each part, the spin and the energy, with the parts in
 contact shaded (ball, both, peg).
 

@@ -1,7 +1,7 @@
 """Independent reference physics for the play-top tests (nothing in here uses kreisel).
 
-A symmetric top with a spherical tip of radius rho on a horizontal plane (PHYSICS.md
-section 3): Z is the sphere centre, G the centre of mass, e3 the unit figure axis from Z to
+A symmetric top with a spherical tip of radius rho on a horizontal plane (theory: play
+top): Z is the sphere centre, G the centre of mass, e3 the unit figure axis from Z to
 G, s = |ZG|, A and C the moments about G, u = e3 . ez. The contact point is T = Z - rho ez,
 a = GT = -s e3 - rho ez. Newton-Euler about G with the contact force F acting at T:
 
@@ -67,7 +67,7 @@ class Top:
     def kwargs(self) -> dict:
         return {"m": self.m, "A": self.A, "C": self.C, "s": self.s, "rho": self.rho, "g": self.g}
 
-    # -- stationary motions (PHYSICS.md section 3; verified in test_play_physics.py) -------
+    # -- stationary motions (theory: play top; verified in test_play_physics.py) -------
     def N_of(self, u):  # noqa: N802
         return (self.alpha + u) ** 2 + self.gamma * (1 - u * u)
 
@@ -411,7 +411,7 @@ def integrate_roll(top: Top, start: dict, t_end: float, t_eval=None):
 
 class FrictionlessMotion:
     """udot^2 = F(u) / (1 + k (1 - u^2)), k = m s^2 / A, for a frictionless play top,
-    F(u) = (1 - u^2)(2E' - 2 m g s u)/A - (b - a u)^2 (PHYSICS.md section 3; the energy
+    F(u) = (1 - u^2)(2E' - 2 m g s u)/A - (b - a u)^2 (theory: play top; the energy
     identity behind it is re-derived in test_play_physics.py).
 
     F = beta (u - u1)(u2 - u)(u3 - u) with beta = 2 m g s / A; with u = u1 + (u2 - u1)

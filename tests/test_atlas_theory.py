@@ -1,7 +1,7 @@
 """The play top's stationary-motion theory checked independently: the energy V(u) at fixed
 J by a constrained minimisation of the kinetic energy, J_R by the stationary points of V,
 stability by minimising V and by the sign of V'', u_m by minimising J_R, and the zones and
-their boundary curves against the definitions of the PHYSICS notes (section 3), evaluated
+their boundary curves against the definitions of theory: play top, evaluated
 here from scratch.
 """
 
@@ -17,7 +17,7 @@ from kreisel import _atlas
 M, RHO, G = 0.1, 0.02, 9.81
 C = 2e-5
 
-# (alpha, gamma) in every zone, as numbered in the PHYSICS notes.
+# (alpha, gamma) in every zone, as numbered on the theory page (play top).
 TOPS = {
     1: [(0.3, 1.0), (0.6, 0.7), (1.2, 1.5)],
     2: [(0.3, 1.5), (0.6, 1.8)],
@@ -35,7 +35,7 @@ def play_top(alpha, gamma):
     return kreisel.PlayTop(m=M, A=gamma * C, C=C, s=alpha * RHO, rho=RHO, g=G)
 
 
-# --- The definitions, written out here from the PHYSICS notes ---------------------------
+# --- The definitions, written out here from the theory page ---------------------------
 
 
 def jr_line(alpha, gamma, u, jb=1.0):
@@ -176,7 +176,7 @@ def test_J_R_is_vectorised_and_nan_where_no_precession_exists():
 
 
 def stable_by_table(pt, m, j):
-    """The table of the PHYSICS notes (section 3)."""
+    """The table of theory: play top."""
     a, g = pt.alpha, pt.gamma
     if m.kind == "upright":
         return g < 1 + a and abs(j) > jr_line(a, g, 1.0, pt.J_beta)

@@ -163,7 +163,8 @@ def test_play_writes_an_interactive_html_view(tmp_path):
 
 
 def test_the_tippe_preset_turns_over_onto_its_peg_and_nothing_drawn_enters_the_floor(tmp_path):
-    """The preset is Leine and Glocker's top (PHYSICS 4.4): the peg first touches at 1.371 s
+    """The preset is Leine and Glocker's top (theory: bodies of revolution): the peg first touches
+    at 1.371 s
     (tests/test_peg.py checks the physics); the animation draws the parts as they are."""
     import xarray as xr
 

@@ -204,7 +204,7 @@ def test_the_energy_never_rises_and_its_budget_closes(friction, spin, t_end):
 
 def test_drilling_friction_wears_jellett_away_and_the_egg_falls_back():
     """Coulomb-Contensou (the default egg: mu 0.3, 0.5 mm patch): its drilling torque
-    changes J (dJ/dt = M ez . GP, PHYSICS 4.2), so at 90 rad/s the egg rises onto its end
+    changes J (dJ/dt = M ez . GP, theory: several parts), so at 90 rad/s the egg rises onto its end
     within 3 s, then J drains and it sinks back towards its side."""
     egg = bodies.egg()
     te = np.linspace(0.0, 20.0, 201)

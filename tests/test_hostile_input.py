@@ -301,7 +301,7 @@ def test_J_R_outside_the_inclinations_or_nan_names_u():
     for u in (2.0, -1.5, math.nan, [0.3, math.nan]):
         with pytest.raises(kreisel.ParameterError, match=r"^u = "):
             pt.J_R(u)
-    # Inside [-1, 1]: J_beta N(u)/sqrt(D(u)) from the parameters (PHYSICS notes, section 3),
+    # Inside [-1, 1]: J_beta N(u)/sqrt(D(u)) from the parameters (theory: play top),
     # nan where D(u) = alpha + (1 - gamma) u <= 0 (no regular precession; documented).
     alpha, gamma = 0.001 / 0.004, 5e-6 / 7e-6
     jb = 0.004 * math.sqrt(7e-6 * 0.02 * 9.81 * 0.001)

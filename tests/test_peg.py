@@ -1,10 +1,11 @@
-"""Tops of several contact parts and Coulomb-Contensou friction (issue 14; PHYSICS notes 4).
+"""Tops of several contact parts and Coulomb-Contensou friction (issue 14; theory: several parts).
 
 References are independent of the code under test: closed forms of the friction law
-(PHYSICS 4.2), the rolling-ball closed form of a sliding sphere (v_T = 0 at t = 2 v0/(7 mu g),
+(theory: several parts), the rolling-ball closed form of a sliding sphere (v_T = 0 at t = 2 v0/(7
+mu g),
 then v = 5 v0/7: Newton's laws for a uniform ball, e.g. Routh, "Dynamics of a System of Rigid
 Bodies" I, §243), the one-sphere play top's own equations (a second formulation), the
-one-sphere stability theory (PHYSICS 3: J_R(1)) applied to the peg, and conserved or
+one-sphere stability theory (theory: play top: J_R(1)) applied to the peg, and conserved or
 monotone quantities.
 """
 
@@ -17,7 +18,7 @@ import kreisel
 from kreisel import Coulomb, CoulombContensou, ParameterError, PlayTop
 from kreisel.shapes import Sphere
 
-# Leine & Glocker's tippe top (PHYSICS 4.4).
+# Leine & Glocker's tippe top (theory: bodies of revolution).
 M, A, C = 6e-3, 8e-7, 7e-7
 BALL = Sphere(0.015, z=-0.003, name="ball")
 PEG = Sphere(0.005, z=-0.016, name="peg")
@@ -78,7 +79,7 @@ def test_a_part_that_never_touches_changes_nothing():
 
 def test_a_spin_about_the_vertical_stops_at_the_drilling_time():
     """Upright spin with no slip: M = -mu N Rbar, so w(t) = w0 - mu m g Rbar t / C and the
-    spin stops at t* = C w0 / (mu m g Rbar) (PHYSICS 4.2)."""
+    spin stops at t* = C w0 / (mu m g Rbar) (theory: several parts)."""
     mu, R, w0, m, c = 0.3, 1e-3, 50.0, 0.02, 3e-6
     # the sphere's centre 5 mm above G: a stable standing ball
     top = PlayTop(m, 2.5e-6, c, shape=[Sphere(0.02, z=0.005)], friction=CoulombContensou(mu, R))
@@ -111,7 +112,7 @@ def test_a_ball_sliding_without_spin_decelerates_as_under_coulomb(radius):
 
 
 def test_a_small_slip_under_drilling_meets_a_viscous_force():
-    """|v| << Rbar |w_n|: F ~ -mu N v / (Rbar |w_n|) to first order (PHYSICS 4.2)."""
+    """|v| << Rbar |w_n|: F ~ -mu N v / (Rbar |w_n|) to first order (theory: several parts)."""
     mu, R, w0, m, c, v0 = 0.3, 1e-3, 100.0, 0.02, 3e-6, 1e-4
     top = PlayTop(m, 2.5e-6, c, shape=[Sphere(0.02, z=0.005)], friction=CoulombContensou(mu, R))
     rbar = 3 * np.pi * R / 16
@@ -165,7 +166,7 @@ def test_energy_never_rises_and_is_accounted_for(lg_run):
 
 def test_the_top_leaves_its_peg_when_the_spin_falls_below_the_pegs_sleeping_threshold(lg_run):
     """On its peg the top is a one-sphere play top (s = 0.016, rho = 0.005): its upright spin
-    is stable only while |J| > J_R(1) (PHYSICS 3). The drilling torque wears J down; the top
+    is stable only while |J| > J_R(1) (theory: play top). The drilling torque wears J down; the top
     must stay on its peg while J is above the threshold and fall back onto its ball after."""
     top, tr = lg_run
     peg_top = PlayTop(M, A, C, s=0.016, rho=0.005)

@@ -1,8 +1,8 @@
 """The play-top API: PlayTop, its states, simulate's trajectory and events, simulate_many.
 
 Reference values: the state map and the invariants are recomputed here from the documented
-conventions (z-x-z Euler angles, scalar-first quaternions, body-frame omega, PHYSICS.md
-section 3) by ``_play_reference.py``, which does not use kreisel; the ball that stops
+conventions (z-x-z Euler angles, scalar-first quaternions, body-frame omega, theory: play
+top) by ``_play_reference.py``, which does not use kreisel; the ball that stops
 under rolling resistance is solved in closed form in its test.
 """
 

@@ -1,6 +1,6 @@
 """Play top: the invariants and closed-form motions the model must keep.
 
-References: Jellett's integral and the energy balance (PHYSICS notes, section 3: any force
+References: Jellett's integral and the energy balance (theory: play top: any force
 at the contact point keeps J; friction only dissipates), the rolling regular precession
 (Omega^2 = m g s / (C D(u)), omega3 = Omega (u + alpha), psi_dot = alpha Omega), and the
 frictionless top (Lz, L3, E and the horizontal velocity of G conserved).

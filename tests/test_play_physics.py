@@ -1,9 +1,9 @@
-"""Physics of kreisel's play top (PHYSICS.md section 3) against independent references.
+"""Physics of kreisel's play top (theory: play top) against independent references.
 
 Every reference value comes from ``_play_reference.py``, which does not use kreisel: scipy
 DOP853 integrations of the Newton-Euler equations with the contact force derived there
 (sliding, rolling), closed-form free flight, and mpmath quadrature of the frictionless
-reduced equation. The stationary-motion formulas of PHYSICS.md are themselves checked
+reduced equation. The stationary-motion formulas of the theory page are themselves checked
 against the rolling integration before they are used.
 """
 
@@ -166,7 +166,7 @@ def test_no_work_is_dissipated_while_rolling(coulomb_tippe):
 
 def jellett_rate_of_torque(top: ref.Top, traj, torque):
     """dJ/dt = M . (s e3 + rho ez) for an extra torque M about G (the contact force at T
-    drops out of dJ/dt, PHYSICS.md section 3)."""
+    drops out of dJ/dt, theory: play top)."""
     _, e3, _, _ = ref.space_quantities(top, traj.quaternion, traj.omega)
     lever = top.s * e3
     lever[:, 2] += top.rho
@@ -244,7 +244,7 @@ def precession_start(top: ref.Top, u: float, sign: float = 1.0) -> dict:
 
 
 def test_regular_precession_formulas_give_a_rolling_equilibrium():
-    """PHYSICS.md's Omega, omega3, psidot and J_R(u), checked against the reference's own
+    """The theory page's Omega, omega3, psidot and J_R(u), checked against the reference's own
     rolling integration: u stays, G stays at rest, the contact force is m g ez."""
     for top, u in [(T1, -0.6), (T1, 0.5), (GYRO, 0.3)]:
         start = precession_start(top, u)
@@ -352,7 +352,7 @@ def test_slip_to_roll_is_located_without_chattering_at_loose_tolerance():
 
 
 def upright_J_ratio(top: ref.Top, start: dict) -> float:
-    """|J| / J_R(1) of a start (PHYSICS.md: upright spin stable iff gamma < 1 + alpha and
+    """|J| / J_R(1) of a start (the theory page: upright spin stable iff gamma < 1 + alpha and
     |J| > J_R(1), J_R(1) = J_beta (1 + alpha)^2 / sqrt(1 + alpha - gamma))."""
     q, w, _, _ = ref.initial(top, **start)
     j = abs(ref.jellett(top, q, w)[0])

@@ -61,7 +61,7 @@ def cos_element_by_quadrature(j1, j2, k, m):
 def dense_block(top, k, m, j_max, p):
     """The (K, M) block built here, from the textbook elements (Townes and Schawlow,
     "Microwave Spectroscopy" (1955), ch. 4, direction cosines) and the free energies of
-    PHYSICS.md section 5."""
+    theory: quantum top."""
     j0 = max(abs(k), abs(m))
     js = np.arange(j0, j_max + 1)
     free = top.hbar**2 * (
@@ -350,7 +350,8 @@ def test_the_stark_map_chooses_a_converged_basis_and_keeps_the_symmetries():
 def action_by_quadrature(top, k, m, energy, p):
     """(1/pi) integral of p_theta over theta between the turning points, from mpmath: the
     turning points are the roots in [-1, 1] of the gyro cubic f(u) = (1-u^2)(2 (E - K^2 hbar^2 /
-    (2 I3)) / I1 - 2 P u / I1) - (hbar/I1)^2 (M - K u)^2 (PHYSICS.md 1), and p_theta d theta =
+    (2 I3)) / I1 - 2 P u / I1) - (hbar/I1)^2 (M - K u)^2 (theory: Lagrange top), and p_theta d
+    theta =
     I1 sqrt(f(u)) / (1 - u^2) du."""
     mpmath.mp.dps = 30
     i1, hb = mpmath.mpf(top.I1), mpmath.mpf(top.hbar)

@@ -1,6 +1,6 @@
 """Contact parts other than spheres (issue 15's first part): spheroids and tori.
 
-References: PHYSICS notes 4.1 (support points) and 4.5 (a disk rolling with its centre at
+References: theory: bodies of revolution (support points) and 4.5 (a disk rolling with its centre at
 rest: Omega^2 sin(alpha) = m g a / A, from the balance of the gravity torque with the turning
 of L; for a thin uniform disk 4 g / a). The derivatives of each part's gap and slip velocity
 are checked against finite differences in the core (shapes.rs); here, whole motions.
@@ -52,7 +52,8 @@ def test_a_torus_that_never_touches_changes_nothing():
 
 @pytest.mark.parametrize("alpha", [0.3, 0.8, 1.2])
 def test_a_disk_rolling_with_its_centre_at_rest_stays_so(alpha):
-    """Euler's disk on its steady motion (PHYSICS 4.5): a thin uniform disk of radius a
+    """Euler's disk on its steady motion (theory: bodies of revolution): a thin uniform disk of
+    radius a
     (A = m a^2/4, C = m a^2/2, its rim a sharp torus) inclined by alpha, precessing at
     Omega with Omega^2 sin(alpha) = 4 g / a and spinning at psi_dot = -Omega cos(alpha), rolls
     without slip with G at rest; it stays on that motion."""
@@ -80,7 +81,7 @@ def test_a_thick_disk_rolls_with_its_centre_at_rest_on_its_own_law(alpha):
     rim's lowest point, GT = -(a/s) ez + (a c/s - a k) e3 (c, s = cos, sin alpha), so with
     omega = Omega ez + psi_dot e3, psi_dot = -Omega (c - k s); then omega . e3 = Omega k s,
     L = A Omega ez + Omega (C k s - A c) e3, and Omega ez x L = GT x m g ez gives
-    Omega^2 s (A c - C k s) = m g a (c - k s) (PHYSICS 4.5 at k = 0)."""
+    Omega^2 s (A c - C k s) = m g a (c - k s) (theory: bodies of revolution at k = 0)."""
     from kreisel import bodies
 
     a, h, m, g = 0.0375, 0.0125, 0.434, 9.81
@@ -272,7 +273,8 @@ def test_a_coin_rolls_on_a_circle_of_the_radius_of_its_closed_form(alpha, rho):
 
         w3 (C + m a^2) Omega sin(alpha) = cos(alpha) (A Omega^2 sin(alpha) - m g a),
 
-    which at rho = 0 is Euler's disk (PHYSICS 4.5). For a given circle: Omega^2 = m g a
+    which at rho = 0 is Euler's disk (theory: bodies of revolution). For a given circle: Omega^2 =
+    m g a
     cos(alpha) / (A sin(alpha) cos(alpha) - rho (C + m a^2) sin(alpha) / a)."""
     a, m, g = 0.0121, 0.00567, 9.81
     big_a, big_c = m * a * a / 4, m * a * a / 2

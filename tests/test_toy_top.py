@@ -5,7 +5,8 @@ Independent references, derived here:
 
 - The tilt at which the tip (a sphere of radius r_t at z_t on the axis) and the shoulder (a
   ring of major radius R, tube r_s at z_s) both touch the floor: the lowest points' heights
-  (PHYSICS 4.1) are equal, z_t u - r_t = z_s u - R sqrt(1 - u^2) - r_s, solved by brentq.
+  (theory: bodies of revolution) are equal, z_t u - r_t = z_s u - R sqrt(1 - u^2) - r_s, solved by
+  brentq.
 - Rolling on both parts, the line through the two contact points is the instantaneous axis
   (both points are at rest): omega lies along it, horizontal. G's height is fixed, so the
   normal forces sum to m g, gravity and the contact forces do no work, and the kinetic energy is
@@ -151,7 +152,8 @@ def test_an_egg_with_rolling_resistance_comes_to_rest_on_its_side():
     resistance c = 0.1 mm: the drilling friction drains its spin, it sinks back and ends at
     rest (the event "rest", status "event") lying on its side. A rest off the lying
     equilibrium is held by the rolling resistance alone: the gravity torque about the contact,
-    m g (b^2 - a^2) |u| / a for small u (the contact's offset from below G, PHYSICS 4.1), is at
+    m g (b^2 - a^2) |u| / a for small u (the contact's offset from below G, theory: bodies of
+    revolution), is at
     most c m g, so |u| <= c a / (b^2 - a^2). Sticking over a patch ends the drilling too (a
     drilling rate left below the tolerance would spin on for ever)."""
     egg = bodies.egg(rolling_resistance=1e-4)

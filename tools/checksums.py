@@ -6,7 +6,7 @@ other simulation routes (every heavy-top method, events, t_eval, batches, a swee
 
 A refactoring that must not change kreisel's behaviour is checked this way: the hashes are
 of the raw bytes of each float64 column, so a difference in the last bit shows. The cases
-are those of ../shared/BENCHMARKS.md with the constants of the scripts in benchmarks/ (T2
+are those of docs/benchmarks.md with the constants of the scripts in benchmarks/ (T2
 with the documented compiled body, so MuJoCo is not needed), some shortened.
 """
 

@@ -1,12 +1,13 @@
 """Where a play top ends: its stationary motions, their stability, and the (alpha, gamma) atlas.
 
-Conventions of the PHYSICS notes, section 3: ``u = cos(theta)`` (u = 1 upright, G above
+Conventions of theory: play top: ``u = cos(theta)`` (u = 1 upright, G above
 the sphere's centre), ``alpha = s/rho``, ``gamma = A/C``, ``J_beta = rho sqrt(C m g s)``,
 ``J_R(u) = J_beta N(u)/sqrt(D(u))`` with ``N(u) = (alpha + u)^2 + gamma (1 - u^2)`` and
 ``D(u) = alpha + (1 - gamma) u``. At a fixed Jellett integral J the stationary motions are
 the stationary points of ``V(u) = J^2 / (2 rho^2 C N(u)) + m g (rho + s u)``, the least
-energy a state with that J and u can have; the stable ones are its minima. Source: the seed
-``play-top.txt`` (regular precession, stability of stationary motions, Figs. 3 and 6).
+energy a state with that J and u can have; the stable ones are its minima. Source:
+Rauch-Wojciechowski, Skoldstam and Glad, Regul. Chaotic Dyn. 10 (2005) 333 (regular precession,
+stability of stationary motions, the atlas).
 """
 
 from __future__ import annotations
@@ -92,7 +93,7 @@ class StationaryMotion:
 
 @dataclass(frozen=True)
 class Classification:
-    """Where a top lies in the (alpha, gamma) plane (PHYSICS notes, section 3).
+    """Where a top lies in the (alpha, gamma) plane (theory: play top).
 
     Attributes
     ----------

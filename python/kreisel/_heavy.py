@@ -257,7 +257,7 @@ class HeavyTop(_Rigid):
     ``kind`` tells the integrable cases: ``"euler"`` (no torque), ``"lagrange"`` (I1 == I2,
     centre of mass on the 3-axis), ``"kovalevskaya"`` (I1 == I2 == 2 I3, centre of mass in the
     equatorial plane), else ``"general"`` (generically chaotic).
-    Source: the project's PHYSICS notes, section 2.
+    Source: theory: heavy top.
 
     Examples
     --------

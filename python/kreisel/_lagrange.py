@@ -36,7 +36,7 @@ class LagrangeTop(_Rigid):
         Gravitational acceleration (m/s^2), >= 0.
 
     Euler angles are z-x-z with theta from the upward vertical, so V = m g l cos(theta).
-    Source: the seed ``lagrange-top.txt`` and the project's PHYSICS notes, section 1.
+    Source: Lagrange, *Mecanique analytique* (1788), and theory: Lagrange top.
 
     Examples
     --------

@@ -99,7 +99,7 @@ class CoulombContensou:
     """Coulomb-Contensou friction: Coulomb friction over a circular contact patch of radius
     ``radius`` (m), sliding and drilling sharing one budget through the elliptic force
     reservoir ``|F|^2 + (M/Rbar)^2 <= (mu N)^2``, ``Rbar = 3 pi radius / 16`` (Leine & Glocker,
-    Eur. J. Mech. A/Solids 22 (2003) 193-216; PHYSICS notes 4.2). While the contact slides or
+    Eur. J. Mech. A/Solids 22 (2003) 193-216; theory: several parts). While the contact slides or
     drills, ``F = -mu N v / D`` and ``M = -mu N Rbar^2 w_n / D`` with
     ``D = sqrt(|v|^2 + Rbar^2 w_n^2)``: a spinning contact meets an almost viscous resistance to
     a small slip. It sticks when neither sliding nor drilling, while force and torque stay in
@@ -225,8 +225,9 @@ class PlayTop:
     air_drag : float
         A torque ``-air_drag omega`` (N m s).
 
-    Conventions: PHYSICS notes section 3 (u = 1 upright, alpha = s/rho, gamma = A/C,
-    Jellett's J = L.(s e3 + rho ez)). Source: the seed ``play-top.txt``.
+    Conventions: theory: play top (u = 1 upright, alpha = s/rho, gamma = A/C,
+    Jellett's J = L.(s e3 + rho ez)). Source: Rauch-Wojciechowski,
+    Skoldstam and Glad, Regul. Chaotic Dyn. 10 (2005) 333.
 
     Examples
     --------

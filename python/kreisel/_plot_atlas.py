@@ -1,8 +1,9 @@
 """Figures of the play top's stationary motions: the (alpha, gamma) atlas of the eight zones,
 the vertical-axis diagram and J_R(u). matplotlib is imported only when a figure is made.
 
-Source: the seed ``play-top.txt``, Figs. 3 and 6; zone numbers as in the PHYSICS notes,
-section 3. Every function draws into ``ax`` when given one and returns the axes.
+Source: Rauch-Wojciechowski, Skoldstam and Glad, Regul. Chaotic Dyn. 10 (2005) 333; zone
+numbers as on the theory page (play top). Every function draws into ``ax`` when given one and
+returns the axes.
 """
 
 from __future__ import annotations

@@ -21,7 +21,8 @@ _TOY_SLOW = 8.131813622444362
 _GYRO = {"I1": 3.712e-4, "I3": 1.024e-4, "m": 0.2, "l": 0.04, "g": 9.81}
 _GYRO_RATE = 1.27734375
 # The tippe top of the peg issue: Leine and Glocker's (Eur. J. Mech. A/Solids 22 (2003) 193),
-# PHYSICS notes 4.4: a ball of 15 mm with a peg of 5 mm radius whose centre is 16 mm from the
+# theory: bodies of revolution: a ball of 15 mm with a peg of 5 mm radius whose centre is 16 mm
+# from the
 # centre of mass, Coulomb-Contensou friction mu = 0.3 over a patch of 0.5 mm.
 # The ball alone ("tippe-ball"), of the demo and BENCHMARKS case T1: a 20 g ball of radius
 # 2 cm, centre of mass 6 mm off the centre (alpha = 0.3), C = 0.4 m rho^2, A = 0.8 C

@@ -104,7 +104,7 @@ def disk_rolling_rates(top: PlayTop, alpha: float) -> tuple[float, float]:
 
         Omega^2 sin(alpha) (A cos(alpha) - C k sin(alpha)) = m g a (cos(alpha) - k sin(alpha))
 
-    (PHYSICS 4.5, ``Omega^2 sin(alpha) = m g a / A``, at k = 0; derived in
+    (theory: bodies of revolution, ``Omega^2 sin(alpha) = m g a / A``, at k = 0; derived in
     ``tests/test_shapes.py``, which checks that a disk started on it stays there).
     :func:`disk_rolling_state` is the state.
 

@@ -6,7 +6,7 @@ free levels ``E(J, K) = hbar^2 J(J+1)/(2 I1) + hbar^2 K^2 (1/(2 I3) - 1/(2 I1))`
 In a potential ``P cos(theta)`` -- the heavy top with P = m g l, or a symmetric-top molecule
 with dipole mu in a field E along z with P = -mu E (the Stark effect) -- K and M stay good
 quantum numbers and each (K, M) block of the Hamiltonian in the basis ``|J K M>`` is tridiagonal
-in J (the project's PHYSICS notes, section 5):
+in J (theory: quantum top):
 
 - :class:`SymmetricTop`: the top, from its moments or from spectroscopic constants
   (:meth:`SymmetricTop.from_constants`), its free levels and their degeneracies
@@ -273,7 +273,7 @@ class SymmetricTop:
         Planck's reduced constant (J s); another value gives a top in other units (hbar = 1:
         energies in units of hbar^2 / (kg m^2)).
 
-    Levels of the free rotor (PHYSICS notes, section 5; Townes and Schawlow, "Microwave
+    Levels of the free rotor (theory: quantum top; Townes and Schawlow, "Microwave
     Spectroscopy" (1955), ch. 4): ``E(J, K) = hbar^2 J(J+1)/(2 I1) + hbar^2 K^2 (1/(2 I3) -
     1/(2 I1))``, each (2J+1)-fold in M and twofold in +-K for K != 0.
 

@@ -1,7 +1,7 @@
 """The contact parts of a top of revolution: convex bodies centred on its figure axis.
 
 A :class:`~kreisel.PlayTop` built with ``shape=[...]`` touches the floor with the union of
-its parts (PHYSICS notes, section 4.1). Each part's position ``z`` is measured from the
+its parts (theory: bodies of revolution). Each part's position ``z`` is measured from the
 centre of mass G along the figure axis e3 (the classic tip sphere is ``Sphere(rho, z=-s)``).
 """
 
@@ -96,7 +96,8 @@ class Sphere:
 class Spheroid:
     """An ellipsoid of revolution about the figure axis: semi-axes ``equatorial`` (across the
     axis) and ``axial`` (along it), centred at ``z`` on the axis (m). Its lowest point is the
-    support point in the direction -ez (PHYSICS notes 4.1). A hard-boiled egg is one prolate
+    support point in the direction -ez (theory: bodies of revolution). A hard-boiled egg is one
+    prolate
     spheroid (``axial > equatorial``); ``Spheroid(r, r, z)`` is ``Sphere(r, z)``.
 
     Examples

@@ -1,4 +1,4 @@
-//! Leine and Glocker's tippe top (PHYSICS.md 4.4): a two-sphere top under
+//! Leine and Glocker's tippe top (theory: bodies of revolution): a two-sphere top under
 //! Coulomb-Contensou friction, printed as it turns over. `cargo run --release --example
 //! lg_tippe [R] [t_end] [rtol]` (R the patch radius, 0: plain Coulomb).
 use kreisel_core::models::play_top::{Friction, PlayTop, Shape};

@@ -14,7 +14,7 @@
 //!   semiclassical (EBK) levels.
 //!
 //! Conventions (SI units, radians, Euler angles z-x-z with theta from the upward vertical)
-//! are those of the project's PHYSICS notes.
+//! are those of the theory page.
 
 pub mod chaos;
 pub mod error;

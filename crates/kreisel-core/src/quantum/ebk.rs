@@ -12,7 +12,7 @@
 //!
 //! The action is the exact classical solution's, in closed form. With `u = cos(theta)`,
 //! energies in units of `B = hbar^2/(2 I1)` (`eps = (E - K^2 hbar^2/(2 I3)) / B`, `p = P / B`)
-//! and momenta in units of hbar, the gyro function of PHYSICS.md section 1 is
+//! and momenta in units of hbar, the gyro function of theory: Lagrange top is
 //! `f(u) = (1 - u^2)(eps - p u) - (M - K u)^2 = p (u - u1)(u - u2)(u - u3)` and
 //!
 //! ```text

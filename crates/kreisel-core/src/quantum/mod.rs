@@ -10,7 +10,7 @@
 //!   [`tridiagonal`] for the eigenvalues).
 //! - [`ebk`]: the nutation action of the classical top and the energies that quantise it.
 //!
-//! Conventions of the project's PHYSICS notes, section 5. Energies in joules, moments in
+//! Conventions of theory: quantum top. Energies in joules, moments in
 //! kg m^2, hbar in J s.
 
 pub mod ebk;

@@ -1,10 +1,10 @@
 //! The play top's stationary motions, their stability, and the (alpha, gamma) atlas.
 //!
-//! Conventions of the PHYSICS notes, section 3: `alpha = s/rho`, `gamma = A/C`, `u = cos
+//! Conventions of theory: play top: `alpha = s/rho`, `gamma = A/C`, `u = cos
 //! theta` (u = 1 upright), `J_beta = rho sqrt(C m g s)`, `N(u) = (alpha + u)^2 + gamma (1 -
-//! u^2)`, `D(u) = alpha + (1 - gamma) u`. Source: the seed `play-top.txt` (sections
-//! "Regular precession", "Stability of stationary movements", "Division of the alpha-gamma
-//! parameter space").
+//! u^2)`, `D(u) = alpha + (1 - gamma) u`. Source:
+//! Rauch-Wojciechowski, Skoldstam and Glad, Regul. Chaotic Dyn. 10 (2005) 333 (regular
+//! precession, stability of stationary motions, the division of the alpha-gamma plane).
 //!
 //! Derivations (checked here, and against a numerical minimisation in the Python tests):
 //!
@@ -124,7 +124,7 @@ impl TopType {
 pub struct Classification {
     /// Type Ia, Ib, IIa or IIb.
     pub top_type: TopType,
-    /// Zone 1..8 (PHYSICS notes, section 3).
+    /// Zone 1..8 (theory: play top).
     pub zone: u8,
     /// Area of the vertical-axis diagram (the seed's Fig. 3): 'a', 'b' or 'c'.
     pub fig3: char,
@@ -181,7 +181,7 @@ fn ends_difference(alpha: f64, gamma: f64) -> f64 {
     (1.0 - alpha).powi(4) * (1.0 + alpha - gamma) - (1.0 + alpha).powi(4) * (alpha + gamma - 1.0)
 }
 
-/// Classifies a top by `alpha = s/rho > 0` and `gamma = A/C > 0` (PHYSICS notes, section 3;
+/// Classifies a top by `alpha = s/rho > 0` and `gamma = A/C > 0` (theory: play top;
 /// the seed's Figs. 3 and 6).
 pub fn classify(alpha: f64, gamma: f64) -> Result<Classification> {
     check_alpha_gamma(alpha, gamma)?;
@@ -605,8 +605,8 @@ pub struct FrictionlessNutation {
 }
 
 /// The frictionless play top from a contact state: `udot^2 = F(u) / (1 + (m s^2/A)(1-u^2))`
-/// with F the gyro function of the Lagrange top with `I1 = A`, `I3 = C`, `l = s` (PHYSICS
-/// notes, section 3). The turning points are F's roots; with `u(tau) = uA cn^2 + uB sn^2`
+/// with F the gyro function of the Lagrange top with `I1 = A`, `I3 = C`, `l = s` (theory: play
+/// top). The turning points are F's roots; with `u(tau) = uA cn^2 + uB sn^2`
 /// the Lagrange solution in its own time tau, the play top's period is
 /// `T = integral over one period of sqrt(1 + (m s^2/A)(1 - u(tau)^2)) dtau`: a smooth
 /// periodic integrand, summed by the trapezoidal rule to round-off.

@@ -1,6 +1,6 @@
 //! Steady precession of the Lagrange top, small nutations about it, and the sleeping top.
 //!
-//! Steady precession at theta0 with axial spin omega3 (PHYSICS notes, section 1): the theta
+//! Steady precession at theta0 with axial spin omega3 (theory: Lagrange top): the theta
 //! equation with thetadot = 0 gives `m g l = Omega (I3 omega3 - I1 Omega cos theta0)`, a
 //! quadratic in Omega. Small nutations about it have
 //! `omega_n^2 = (a - 2 Omega cos theta0)^2 + Omega^2 sin^2 theta0`, `a = I3 omega3 / I1`.

@@ -2,7 +2,7 @@
 //!
 //! Body frame along the principal axes of inertia about the pivot, `I = diag(I1, I2, I3)`,
 //! centre of mass `c` (from the pivot, body frame), `Gamma` the upward vertical seen in the
-//! body frame, `M = I omega` (PHYSICS notes, section 2):
+//! body frame, `M = I omega` (theory: heavy top):
 //!
 //! `dM/dt = M x omega + m g (Gamma x c)`,  `dGamma/dt = Gamma x omega`,
 //!

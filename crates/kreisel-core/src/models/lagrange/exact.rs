@@ -1,7 +1,7 @@
 //! The exact solution of the Lagrange top in Jacobi elliptic functions.
 //!
 //! With `u = cos(theta)` the nutation obeys `udot^2 = f(u)`, a cubic whose roots `uA`, `uB`
-//! bound the motion (PHYSICS notes, section 1). Writing
+//! bound the motion (theory: Lagrange top). Writing
 //!
 //! `u(tau) = uA cn^2(tau | m) + uB sn^2(tau | m)`,  `tau = w t + tau0`,
 //!

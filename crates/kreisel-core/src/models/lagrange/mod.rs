@@ -1,6 +1,6 @@
 //! The Lagrange top: a heavy symmetric top on a fixed pivot, centre of mass on the figure axis.
 //!
-//! Parameters follow the project's PHYSICS notes, section 1: `I1` is the transverse moment
+//! Parameters follow theory: Lagrange top: `I1` is the transverse moment
 //! about the pivot, `I3` the axial moment, `l` the signed pivot-to-centre-of-mass distance
 //! along the figure axis. Euler angles are z-x-z with theta from the upward vertical, so
 //! the potential energy is `m g l cos(theta)`.

@@ -1,6 +1,6 @@
 //! The play top: a symmetric top with a spherical tip on a horizontal plane, with friction.
 //!
-//! Conventions of the PHYSICS notes, section 3: sphere radius `rho`, distance `s` from the
+//! Conventions of theory: play top: sphere radius `rho`, distance `s` from the
 //! sphere centre Z to the centre of mass G along the figure axis e3 (pointing from Z to G),
 //! moments `A` (equatorial) and `C` (axial) about G, `u = e3 . ez` (u = 1 upright, G above Z;
 //! u = -1 hanging). The contact point is `T = Z - rho ez`; `a = GT = -s e3 - rho ez`.
@@ -50,7 +50,7 @@ pub enum Friction {
     },
     /// No tangential force.
     Frictionless,
-    /// Coulomb-Contensou friction over a circular patch (PHYSICS.md 4.2, Leine & Glocker
+    /// Coulomb-Contensou friction over a circular patch (theory: several parts, Leine & Glocker
     /// 2003): sliding and drilling share the elliptic reservoir
     /// `|F|^2 + (M / rbar)^2 <= (mu N)^2`, `rbar = 3 pi R / 16`. Built with `radius > 0` only
     /// ([`Friction::coulomb_contensou`] makes radius 0 plain Coulomb).

@@ -1,4 +1,4 @@
-//! Tops with several contact parts, or with Coulomb-Contensou friction (PHYSICS.md 4): the
+//! Tops with several contact parts, or with Coulomb-Contensou friction (theory: several parts): the
 //! equations of motion with any set of parts touching, each sliding or sticking, and the
 //! contact rules between them (touchdown and lift-off of a part, stick and slip of a part,
 //! the tangential impact that ends a Painleve jam, impacts with several parts touching).

@@ -1,5 +1,6 @@
 //! The convex contact parts of a top of revolution, each centred on the figure axis
-//! (PHYSICS.md 4.1): where a part's lowest point is, its height above the floor, and the
+//! (theory: bodies of revolution): where a part's lowest point is, its height above the floor,
+//! and the
 //! kinematics of that point while the part touches (the gap's rate and acceleration, and the
 //! slip velocity's rate while the point sticks).
 //!
@@ -148,7 +149,7 @@ impl Shape {
     /// The part's profile along the vertical: with `u = e3 . ez`, its lowest point lies
     /// `phi(u)` below its centre; returns `(phi, phi', phi'')` (derivatives in u). A sphere's
     /// is `(radius, 0, 0)`; a spheroid's `phi = sqrt(a^2 (1 - u^2) + b^2 u^2)`; a torus's
-    /// `phi = R sqrt(1 - u^2) + r` (PHYSICS.md 4.1).
+    /// `phi = R sqrt(1 - u^2) + r` (theory: bodies of revolution).
     #[inline(always)]
     pub fn profile(&self, u: f64) -> (f64, f64, f64) {
         match *self {

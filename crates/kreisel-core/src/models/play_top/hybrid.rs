@@ -43,10 +43,6 @@ pub(crate) trait Hybrid {
     fn record(&self, sw: Self::Switch) -> (&'static str, Option<usize>);
     /// Called with each phase's first state and its slip tolerance before it is integrated.
     fn prepare(&self, _phase: &mut Self::Phase, _y: &[f64; DIM], _eps: f64) {}
-    /// Whether the switch ends the run.
-    fn terminal(&self, _sw: Self::Switch) -> bool {
-        false
-    }
     /// Carries out a switch at the located state.
     fn apply(
         &self,
@@ -701,21 +697,10 @@ impl OdeSystem<DIM> for MultiSystem<'_> {
 /// A switch keeps `E + dissipated`: it only turns energy into dissipated energy. The state
 /// it leaves is put on the floor from the located state a hair below it
 /// ([`PlayTop::touchdown_offset`]), which raises the potential energy by `m g offset`, and
-/// its projections round: any rise of `E + dissipated` over `before` is taken from the
-/// kinetic energy by scaling the velocities (every contact constraint is homogeneous in
-/// them, so the contact modes hold); kinetic energy a projection removed without counting it
-/// is counted as dissipated.
+/// its projections round: the difference from `before` is shed ([`PlayTop::shed_energy`]).
 fn no_energy_from_a_switch(top: &PlayTop, y: &mut [f64; DIM], before: f64) {
-    let ke = top.kinetic_energy(y);
-    let excess = ke + top.m * top.g * y[9] + y[13] - before;
-    if excess > 0.0 && ke > 0.0 {
-        let f = ((ke - excess).max(0.0) / ke).sqrt();
-        for i in (4..7).chain(10..13) {
-            y[i] *= f;
-        }
-    } else if excess < 0.0 {
-        y[13] -= excess;
-    }
+    let now = top.kinetic_energy(y) + top.m * top.g * y[9] + y[13];
+    top.shed_energy(y, now - before);
 }
 
 /// A play top rests when its kinetic energy has fallen to this share of its start.
@@ -843,17 +828,14 @@ pub(crate) fn drive<H: Hybrid>(
         for (idx, te) in hits {
             if let Some(&sw) = switches.get(idx) {
                 let (name, part) = h.record(sw);
+                // The switch's record, kept where it is in case the switch does not happen.
+                reason = Some((sw, info.events.len()));
                 info.events.push(EventRecord {
                     index: None,
                     name: name.into(),
                     t: te,
                     part,
                 });
-                if h.terminal(sw) {
-                    stopped = true;
-                } else {
-                    reason = Some(sw);
-                }
             } else {
                 let i = watched[idx - switches.len()];
                 let e = &settings.events[i];
@@ -871,7 +853,7 @@ pub(crate) fn drive<H: Hybrid>(
         }
         t = t1;
         y = y1;
-        let Some(switch) = reason.filter(|_| !stopped && t < t_end) else {
+        let Some((switch, record)) = reason.filter(|_| !stopped && t < t_end) else {
             break;
         };
         let before = h.row(&phase, &y).contacts.mode;
@@ -888,13 +870,7 @@ pub(crate) fn drive<H: Hybrid>(
         if own_name == "slip_to_roll" && own.is_some_and(|i| after[i] == Mode::Slip) {
             // The part could not stick (its friction cannot hold it): it slides on, and no
             // slip_to_roll is recorded.
-            if let Some(k) = info
-                .events
-                .iter()
-                .rposition(|e| e.index.is_none() && e.name == own_name && e.part == own && e.t == t)
-            {
-                info.events.remove(k);
-            }
+            info.events.remove(record);
         }
         for i in 0..top.parts.n {
             let name = match (before[i], after[i]) {

@@ -327,7 +327,7 @@ fn scale(k: f64, a: [f64; 3]) -> [f64; 3] {
 
 /// Solves a 3x3 linear system by Cramer's rule (the matrices here are well conditioned:
 /// the contact's inverse effective mass).
-fn solve3(m: [[f64; 3]; 3], b: [f64; 3]) -> [f64; 3] {
+pub(crate) fn solve3(m: [[f64; 3]; 3], b: [f64; 3]) -> [f64; 3] {
     let det = |m: [[f64; 3]; 3]| {
         m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
             - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
@@ -801,6 +801,24 @@ impl PlayTop {
             -p_friction
         };
         contact
+    }
+
+    /// Takes `excess` (J) of energy that a projection or switch made out of nothing back from
+    /// the kinetic energy, by scaling the velocities (every contact constraint is homogeneous
+    /// in them, so the contact modes hold); a negative `excess`, energy the change took
+    /// without counting it, is counted as dissipated.
+    pub(crate) fn shed_energy(&self, y: &mut [f64; DIM], excess: f64) {
+        let ke = self.kinetic_energy(y);
+        if excess > 0.0 {
+            if ke > 0.0 {
+                let f = ((ke - excess).max(0.0) / ke).sqrt();
+                for i in (4..7).chain(10..13) {
+                    y[i] *= f;
+                }
+            }
+        } else {
+            y[13] -= excess;
+        }
     }
 
     /// Kinetic energy, translation + rotation (J).

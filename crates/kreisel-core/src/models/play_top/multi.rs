@@ -21,13 +21,22 @@
 #![allow(clippy::needless_range_loop)]
 
 use super::shapes::{Shape, MAX_PARTS};
-use super::{add, scale, Friction, Mode, PlayTop, DIM};
+use super::{add, scale, solve3, Friction, Mode, PlayTop, DIM};
 use crate::rotation::{cross, dot, Quat};
 
 const EX: [f64; 3] = [1.0, 0.0, 0.0];
 const EY: [f64; 3] = [0.0, 1.0, 0.0];
 const EZ: [f64; 3] = [0.0, 0.0, 1.0];
 const ZERO: [f64; 3] = [0.0; 3];
+
+/// The matrix whose columns are `cols` (rows of `cols` as columns).
+fn transpose(cols: [[f64; 3]; 3]) -> [[f64; 3]; 3] {
+    [
+        [cols[0][0], cols[1][0], cols[2][0]],
+        [cols[0][1], cols[1][1], cols[2][1]],
+        [cols[0][2], cols[1][2], cols[2][2]],
+    ]
+}
 /// The most unknowns of one system: four per part.
 const MAXU: usize = 4 * MAX_PARTS;
 
@@ -338,17 +347,6 @@ enum Unknown {
     StickT(usize, usize),
     /// A sticking part's drilling torque (Coulomb-Contensou).
     StickM(usize),
-}
-
-/// The solution x of `sum_j x_j cols[j] = b` (three columns; Cramer's rule).
-fn solve3_cols(cols: [[f64; 3]; 3], b: [f64; 3]) -> [f64; 3] {
-    let det = |a: [f64; 3], c: [f64; 3], d: [f64; 3]| dot(a, cross(c, d));
-    let d = det(cols[0], cols[1], cols[2]);
-    [
-        det(b, cols[1], cols[2]) / d,
-        det(cols[0], b, cols[2]) / d,
-        det(cols[0], cols[1], b) / d,
-    ]
 }
 
 impl PlayTop {
@@ -794,16 +792,8 @@ impl PlayTop {
             y[11] = 0.0;
         }
         y[12] = 0.0;
-        let ke = self.kinetic_energy(y);
-        let after = ke + self.m * self.g * y[9];
-        if after > before && ke > 0.0 {
-            let f = ((ke - (after - before)).max(0.0) / ke).sqrt();
-            for j in [6, 10, 11] {
-                y[j] *= f;
-            }
-        } else {
-            y[13] += before - after;
-        }
+        let after = self.kinetic_energy(y) + self.m * self.g * y[9];
+        self.shed_energy(y, after - before);
     }
 
     /// The impact of ring part `i` coming down flat (its plane within
@@ -1133,15 +1123,7 @@ impl PlayTop {
             y[10] = v[0];
             y[11] = v[1];
         }
-        let after = self.kinetic_energy(y);
-        if after > before && after > 0.0 {
-            let f = (before / after).sqrt();
-            for i in (4..7).chain(10..13) {
-                y[i] *= f;
-            }
-        } else {
-            y[13] += before - after;
-        }
+        self.shed_energy(y, self.kinetic_energy(y) - before);
     }
 
     /// Two parts touching at once fix the tilt: their gaps `z_G + z u - phi(u)` are both zero,
@@ -1270,7 +1252,7 @@ impl PlayTop {
         for _ in 0..200_000 {
             if !viscous && v[0].hypot(v[1]) <= 10.0 * vstop {
                 // The slip has stopped: the rest of the impact stops the contact point.
-                let stop = solve3_cols(kc, scale(-1.0, v));
+                let stop = solve3(transpose(kc), scale(-1.0, v));
                 return apply(add(p, stop));
             }
             // RK4 on dv/dlambda = K slope(v), dP/dlambda = slope(v).
@@ -1306,7 +1288,7 @@ impl PlayTop {
                 // growing without bound as it heads for zero (the dynamic jam), and its
                 // friction stops the slip first. That is the impulse that stops the contact
                 // point, where it lies in the friction cone.
-                let stop = solve3_cols(kc, scale(-1.0, v0));
+                let stop = solve3(transpose(kc), scale(-1.0, v0));
                 let inside = stop[2] > 0.0 && stop[0].hypot(stop[1]) <= mu * stop[2];
                 return if !viscous && inside {
                     apply(stop)

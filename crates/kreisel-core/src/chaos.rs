@@ -10,9 +10,38 @@
 //! at a positive value.
 
 use crate::error::{KreiselError, Result};
+use crate::models::heavy_top::driven::{DrivenRow, DrivenTop};
 use crate::models::heavy_top::{HeavyTop, RigidState};
 use crate::rotation::Quat;
-use crate::simulate::{self, Settings};
+use crate::simulate::{self, Model, Settings};
+
+/// A top whose motion can be followed segment by segment: the model that continues a run
+/// from time `t0` (the same for an autonomous top; a driven top's pivot clock moves on),
+/// and the state of an output row.
+pub trait Segments: Model<State = RigidState> + Sized {
+    /// The model for a run that starts at time `t0`.
+    fn starting_at(&self, t0: f64) -> Self;
+    /// The rigid state of a row.
+    fn state_of(row: &Self::Row) -> RigidState;
+}
+
+impl Segments for HeavyTop {
+    fn starting_at(&self, _t0: f64) -> Self {
+        *self
+    }
+    fn state_of(row: &RigidState) -> RigidState {
+        *row
+    }
+}
+
+impl Segments for DrivenTop {
+    fn starting_at(&self, t0: f64) -> Self {
+        self.later(t0)
+    }
+    fn state_of(row: &DrivenRow) -> RigidState {
+        row.state()
+    }
+}
 
 /// How to estimate the exponent.
 #[derive(Debug, Clone)]
@@ -126,14 +155,18 @@ fn check(s: &LyapunovSettings) -> Result<()> {
 }
 
 /// Estimates the largest Lyapunov exponent of the motion from `s0`.
-pub fn lyapunov(top: &HeavyTop, s0: &RigidState, settings: &LyapunovSettings) -> Result<Lyapunov> {
+pub fn lyapunov<M: Segments>(
+    top: &M,
+    s0: &RigidState,
+    settings: &LyapunovSettings,
+) -> Result<Lyapunov> {
     lyapunov_with(top, s0, settings, &mut |_| true)
 }
 
 /// [`lyapunov`], asking `keep_going(t)` now and then (within each segment's run) whether to
 /// go on; an interrupted estimate is an error.
-pub fn lyapunov_with(
-    top: &HeavyTop,
+pub fn lyapunov_with<M: Segments>(
+    top: &M,
     s0: &RigidState,
     settings: &LyapunovSettings,
     keep_going: &mut dyn FnMut(f64) -> bool,
@@ -150,8 +183,8 @@ pub fn lyapunov_with(
         ..Settings::default()
     };
     simulate::check(top, &seg, 0)?;
-    let mut advance = |s: &RigidState| -> Result<RigidState> {
-        let out = simulate::simulate(top, s, &seg, &mut [], keep_going)?;
+    let mut advance = |s: &RigidState, t0: f64| -> Result<RigidState> {
+        let out = simulate::simulate(&top.starting_at(t0), s, &seg, &mut [], keep_going)?;
         if out.info.status == simulate::Status::Interrupted {
             return Err(KreiselError::Numerical(
                 "Lyapunov estimate interrupted".into(),
@@ -159,7 +192,7 @@ pub fn lyapunov_with(
         }
         out.rows
             .last()
-            .copied()
+            .map(M::state_of)
             .ok_or_else(|| KreiselError::Numerical("no state at the segment's end".into()))
     };
     let k = settings.d0 / norm6(&settings.direction);
@@ -172,8 +205,9 @@ pub fn lyapunov_with(
         ..Default::default()
     };
     for i in 1..=n {
-        a = advance(&a)?;
-        b = advance(&b)?;
+        let t0 = (i - 1) as f64 * tau;
+        a = advance(&a, t0)?;
+        b = advance(&b, t0)?;
         let d = separation(&a, &b);
         let dist = norm6(&d);
         if !(dist.is_finite() && dist > 0.0) {

@@ -1,7 +1,8 @@
 //! Bindings of the parallel batches: conversion only. The GIL is released while the runs go.
 
 use crate::errors::IntoPyResult;
-use crate::heavy::{lyapunov_settings, PyHeavyTop};
+use crate::heavy::lyapunov_settings;
+use crate::simulate::{driven, native, Native};
 use kreisel_core::models::heavy_top::{HeavyTop, RigidState};
 use kreisel_core::simulate::batch;
 use numpy::IntoPyArray;
@@ -36,7 +37,7 @@ fn columns<'py, S>(
 #[allow(clippy::too_many_arguments)]
 pub fn lyapunov_many<'py>(
     py: Python<'py>,
-    tops: Vec<PyRef<'py, PyHeavyTop>>,
+    tops: Vec<Bound<'py, PyAny>>,
     states: Vec<([f64; 4], [f64; 3])>,
     t_end: f64,
     tau: f64,
@@ -46,22 +47,33 @@ pub fn lyapunov_many<'py>(
     atol: f64,
     threads: Option<usize>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let runs = heavy_runs(py, &tops, &states)?;
-    let st = lyapunov_settings(t_end, tau, d0, direction, rtol, atol);
-    let res = py
-        .detach(move || batch::lyapunov_many(&runs, &st, threads))
+    let natives: Vec<Native> = tops.iter().map(native).collect::<PyResult<_>>()?;
+    if natives.iter().any(|m| matches!(m, Native::Play(_))) {
+        return Err(pyo3::exceptions::PyTypeError::new_err(
+            "the Lyapunov exponent is estimated for tops on a pivot, not play tops",
+        ));
+    }
+    let starts: Vec<RigidState> = states
+        .iter()
+        .map(|(q, w)| RigidState::new(*q, *w))
+        .collect::<kreisel_core::Result<_>>()
         .py(py)?;
+    let st = lyapunov_settings(t_end, tau, d0, direction, rtol, atol);
+    let res = if natives.iter().all(|m| matches!(m, Native::Heavy(_))) {
+        let runs: Vec<(HeavyTop, RigidState)> = natives
+            .into_iter()
+            .zip(starts)
+            .map(|(m, s)| match m {
+                Native::Heavy(t) => (t, s),
+                _ => unreachable!(),
+            })
+            .collect();
+        py.detach(move || batch::lyapunov_many(&runs, &st, threads))
+            .py(py)?
+    } else {
+        let runs: Vec<_> = natives.into_iter().map(driven).zip(starts).collect();
+        py.detach(move || batch::lyapunov_many(&runs, &st, threads))
+            .py(py)?
+    };
     columns(py, &res, &[("lyapunov", &|x| *x)])
-}
-
-fn heavy_runs(
-    py: Python<'_>,
-    tops: &[PyRef<'_, PyHeavyTop>],
-    states: &[([f64; 4], [f64; 3])],
-) -> PyResult<Vec<(HeavyTop, RigidState)>> {
-    tops.iter()
-        .zip(states)
-        .map(|(t, (q, w))| Ok((t.inner, RigidState::new(*q, *w)?)))
-        .collect::<kreisel_core::Result<Vec<_>>>()
-        .py(py)
 }

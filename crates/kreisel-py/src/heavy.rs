@@ -89,23 +89,33 @@ impl PyHeavyTop {
         atol: f64,
     ) -> PyResult<Bound<'py, PyDict>> {
         let s0 = rigid(py, q, omega)?;
-        let st = lyapunov_settings(t_end, tau, d0, direction, rtol, atol);
-        let top = self.inner;
-        let (res, signal) = py.detach(move || {
-            let mut signals = crate::simulate::Signals::new();
-            let res = chaos::lyapunov_with(&top, &s0, &st, &mut |_| signals.keep_going());
-            (res, signals.error)
-        });
-        if let Some(e) = signal {
-            return Err(e);
-        }
-        let res = res.py(py)?;
-        let d = PyDict::new(py);
-        d.set_item("exponent", res.exponent)?;
-        d.set_item("t", res.t.into_pyarray(py))?;
-        d.set_item("running", res.running.into_pyarray(py))?;
-        Ok(d)
+        lyapunov_dict(py, self.inner, s0, (t_end, tau, d0, direction, rtol, atol))
     }
+}
+
+/// Runs a Lyapunov estimate with the interpreter released (Ctrl-C stops it) and returns
+/// `{"exponent", "t", "running"}`.
+pub fn lyapunov_dict<M: chaos::Segments + Send>(
+    py: Python<'_>,
+    top: M,
+    s0: RigidState,
+    (t_end, tau, d0, direction, rtol, atol): (f64, f64, f64, [f64; 6], f64, f64),
+) -> PyResult<Bound<'_, PyDict>> {
+    let st = lyapunov_settings(t_end, tau, d0, direction, rtol, atol);
+    let (res, signal) = py.detach(move || {
+        let mut signals = crate::simulate::Signals::new();
+        let res = chaos::lyapunov_with(&top, &s0, &st, &mut |_| signals.keep_going());
+        (res, signals.error)
+    });
+    if let Some(e) = signal {
+        return Err(e);
+    }
+    let res = res.py(py)?;
+    let d = PyDict::new(py);
+    d.set_item("exponent", res.exponent)?;
+    d.set_item("t", res.t.into_pyarray(py))?;
+    d.set_item("running", res.running.into_pyarray(py))?;
+    Ok(d)
 }
 
 /// The core's settings of a Lyapunov estimate.

@@ -2,6 +2,7 @@
 
 mod batch;
 mod columns;
+mod driven;
 mod errors;
 mod heavy;
 mod lagrange;
@@ -17,6 +18,7 @@ use pyo3::prelude::*;
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<lagrange::PyLagrangeTop>()?;
     m.add_class::<heavy::PyHeavyTop>()?;
+    m.add_class::<driven::PyDrivenTop>()?;
     m.add_class::<play::PyPlayTop>()?;
     m.add_class::<play::PyFriction>()?;
     m.add_class::<simulate::PyRun>()?;

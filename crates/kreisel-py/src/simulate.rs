@@ -2,9 +2,11 @@
 //! same way, and `names` exports every public name the Python layer reads. Conversion only:
 //! the rules are the core's.
 
+use crate::driven::PyDrivenTop;
 use crate::errors::IntoPyResult;
 use crate::heavy::PyHeavyTop;
 use crate::play::PyPlayTop;
+use kreisel_core::models::heavy_top::driven::{Damping, DrivenRow, DrivenTop, Pivot};
 use kreisel_core::models::heavy_top::HeavyTop;
 use kreisel_core::models::heavy_top::RigidState;
 use kreisel_core::models::play_top::simulate::PlayRow;
@@ -20,28 +22,32 @@ use pyo3::types::{PyDict, PyList};
 use std::cell::RefCell;
 
 /// A native model: what `simulate` and `many` accept.
-#[derive(Clone, Copy)]
-enum Native {
+#[derive(Clone)]
+pub(crate) enum Native {
     Heavy(HeavyTop),
+    Driven(DrivenTop),
     Play(PlayTop),
 }
 
-fn native(model: &Bound<'_, PyAny>) -> PyResult<Native> {
+pub(crate) fn native(model: &Bound<'_, PyAny>) -> PyResult<Native> {
     if let Ok(t) = model.cast::<PyHeavyTop>() {
         return Ok(Native::Heavy(t.get().inner));
+    }
+    if let Ok(t) = model.cast::<PyDrivenTop>() {
+        return Ok(Native::Driven(t.get().inner.clone()));
     }
     if let Ok(t) = model.cast::<PyPlayTop>() {
         return Ok(Native::Play(t.get().inner));
     }
     Err(pyo3::exceptions::PyTypeError::new_err(format!(
-        "model must be a native HeavyTop or PlayTop, not {}",
+        "model must be a native HeavyTop, DrivenTop or PlayTop, not {}",
         model.get_type().name()?
     )))
 }
 
 /// A state of `model` from its flat numbers: (q, omega) for a heavy top, (q, omega, com,
 /// com_velocity) for a play top.
-fn heavy_state(py: Python<'_>, x: &[f64]) -> PyResult<RigidState> {
+pub(crate) fn heavy_state(py: Python<'_>, x: &[f64]) -> PyResult<RigidState> {
     let v: [f64; 7] = x.try_into().map_err(|_| {
         pyo3::exceptions::PyValueError::new_err(format!(
             "a heavy top's state has 7 numbers (q, omega), not {}",
@@ -208,6 +214,7 @@ pub struct PyRun {
 
 enum Rows {
     Heavy(HeavyTop, Vec<RigidState>),
+    Driven(DrivenTop, Vec<DrivenRow>),
     Play(PlayTop, Vec<PlayRow>),
 }
 
@@ -240,6 +247,24 @@ impl PyRun {
                 if let Some(v) = c.kovalevskaya {
                     d.set_item("kovalevskaya", v.into_pyarray(py))?;
                 }
+            }
+            Rows::Driven(top, rows) => {
+                let c = py.detach(|| top.columns(rows));
+                d.set_item("theta", c.theta.into_pyarray(py))?;
+                d.set_item("phi", c.phi.into_pyarray(py))?;
+                d.set_item("psi", c.psi.into_pyarray(py))?;
+                d.set_item("energy", c.energy.into_pyarray(py))?;
+                d.set_item("potential", c.potential.into_pyarray(py))?;
+                d.set_item("Mz", c.mz.into_pyarray(py))?;
+                d.set_item("pivot_position", flat(py, &c.pivot_position)?)?;
+                d.set_item("pivot_velocity", flat(py, &c.pivot_velocity)?)?;
+                d.set_item("reaction_force", flat(py, &c.reaction_force)?)?;
+                d.set_item("power_pivot", c.power_pivot.into_pyarray(py))?;
+                d.set_item("power_dissipated", c.power_dissipated.into_pyarray(py))?;
+                d.set_item("work_by_pivot", c.work_by_pivot.into_pyarray(py))?;
+                d.set_item("dissipated", c.dissipated.into_pyarray(py))?;
+                d.set_item("balance", c.balance.into_pyarray(py))?;
+                d.set_item("stuck", c.stuck.into_pyarray(py))?;
             }
             Rows::Play(top, rows) => {
                 let c = py.detach(|| top.columns(rows));
@@ -350,6 +375,30 @@ pub fn simulate<'py>(
                 "run",
                 PyRun {
                     rows: Rows::Heavy(top, out.rows),
+                },
+            )?;
+        }
+        Native::Driven(top) => {
+            let s0 = heavy_state(py, &state)?;
+            let out = run_model(
+                py,
+                top.clone(),
+                s0,
+                st,
+                &events,
+                |py, f, t, s: &RigidState| f.call1(py, (t, s.q.0, s.omega))?.extract::<f64>(py),
+            )?;
+            let q: Vec<[f64; 4]> = out.rows.iter().map(|r| r.state().q.0).collect();
+            let w: Vec<[f64; 3]> = out.rows.iter().map(|r| r.state().omega).collect();
+            d.set_item("quaternion", flat(py, &q)?)?;
+            d.set_item("omega", flat(py, &w)?)?;
+            d.set_item("derived", top.column_names())?;
+            info_into(py, &d, &out.info)?;
+            d.set_item("t", out.t.into_pyarray(py))?;
+            d.set_item(
+                "run",
+                PyRun {
+                    rows: Rows::Driven(top, out.rows),
                 },
             )?;
         }
@@ -469,7 +518,7 @@ pub fn many<'py>(
                 .zip(&states)
                 .map(|(m, s)| match m {
                     Native::Play(t) => Ok((*t, play_state(s)?)),
-                    Native::Heavy(_) => unreachable!(),
+                    _ => unreachable!(),
                 })
                 .collect::<PyResult<_>>()?;
             // A play top's summary has the time it first turns over past this level.
@@ -495,8 +544,17 @@ pub fn many<'py>(
                 .zip(&states)
                 .map(|(m, s)| match m {
                     Native::Heavy(t) => Ok((*t, heavy_state(py, s)?)),
-                    Native::Play(_) => unreachable!(),
+                    _ => unreachable!(),
                 })
+                .collect::<PyResult<_>>()?;
+            let res = py.detach(move || batch::many(&runs, &st, threads)).py(py)?;
+            summary_columns(py, "heavy", &res, |s, k| s.get(k))
+        }
+        _ if natives.iter().all(|m| !matches!(m, Native::Play(_))) => {
+            let runs: Vec<(DrivenTop, RigidState)> = natives
+                .into_iter()
+                .zip(&states)
+                .map(|(m, s)| Ok((driven(m), heavy_state(py, s)?)))
                 .collect::<PyResult<_>>()?;
             let res = py.detach(move || batch::many(&runs, &st, threads)).py(py)?;
             summary_columns(py, "heavy", &res, |s, k| s.get(k))
@@ -504,6 +562,17 @@ pub fn many<'py>(
         _ => Err(pyo3::exceptions::PyValueError::new_err(
             "models mixes play tops and heavy tops: one kind per batch",
         )),
+    }
+}
+
+/// A heavy top as a driven one (on a fixed pivot, undamped), so that a batch mixing both
+/// runs as one kind.
+pub(crate) fn driven(m: Native) -> DrivenTop {
+    match m {
+        Native::Driven(t) => t,
+        Native::Heavy(t) => DrivenTop::new(t, Pivot::Fixed, Damping::default())
+            .expect("an undamped top on a fixed pivot is valid"),
+        Native::Play(_) => unreachable!("play tops are not heavy tops"),
     }
 }
 
@@ -533,6 +602,7 @@ pub fn check_settings(
     let users = st.user_events();
     match native(model)? {
         Native::Heavy(top) => core::check(&top, &st, users).map(|_| ()).py(py),
+        Native::Driven(top) => core::check(&top, &st, users).map(|_| ()).py(py),
         Native::Play(top) => core::check(&top, &st, users).map(|_| ()).py(py),
     }
 }

@@ -9,7 +9,7 @@
 use super::{Model, Settings};
 use crate::chaos::{self, LyapunovSettings};
 use crate::error::{KreiselError, Result};
-use crate::models::heavy_top::{HeavyTop, RigidState};
+use crate::models::heavy_top::RigidState;
 use crate::simulate;
 
 /// Runs `f` over `items` on `threads` threads (None: rayon's global pool, all cores).
@@ -56,8 +56,8 @@ pub fn many<M: Model>(
 }
 
 /// Heavy tops: the largest Lyapunov exponent of every run (see [`chaos::lyapunov`]).
-pub fn lyapunov_many(
-    runs: &[(HeavyTop, RigidState)],
+pub fn lyapunov_many<M: chaos::Segments>(
+    runs: &[(M, RigidState)],
     settings: &LyapunovSettings,
     threads: Option<usize>,
 ) -> Result<Vec<Result<f64>>> {
@@ -70,6 +70,7 @@ pub fn lyapunov_many(
 mod tests {
     use super::*;
     use crate::models::heavy_top::simulate::HeavySummary;
+    use crate::models::heavy_top::HeavyTop;
     use crate::simulate::Accumulate;
 
     fn lagrange() -> HeavyTop {

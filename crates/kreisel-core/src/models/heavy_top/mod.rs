@@ -17,6 +17,7 @@
 //! - [`simulate`]: the driver behind `simulate::simulate` for heavy tops, its columns and
 //!   its summary.
 
+pub mod driven;
 pub mod equations;
 pub mod simulate;
 pub mod splitting;

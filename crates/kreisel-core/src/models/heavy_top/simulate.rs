@@ -213,7 +213,7 @@ fn run_fixed<S: FixedScheme>(
 }
 
 /// The event function of a built-in kind, on the decoded state.
-fn builtin_event(kind: EventKind, s: &RigidState) -> f64 {
+pub(super) fn builtin_event(kind: EventKind, s: &RigidState) -> f64 {
     match kind {
         EventKind::TurningPoints => {
             // u = cos(theta) = Gamma_3 and du/dt = (Gamma x omega)_3; theta_dot has the

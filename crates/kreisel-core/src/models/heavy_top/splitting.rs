@@ -71,6 +71,11 @@ impl<'a> Splitting<'a> {
         Ok(Splitting { top, weights })
     }
 
+    /// The weights of the Strang steps composed.
+    pub(super) fn weights(&self) -> &'static [f64] {
+        self.weights
+    }
+
     /// The internal state of a rigid state.
     pub fn encode(&self, s: &RigidState) -> QM {
         let m = self.top.momentum(s.omega);
@@ -112,8 +117,9 @@ impl<'a> Splitting<'a> {
         y.m[k] = -s * mj + c * mk;
     }
 
+    /// The exact free rotation over h.
     #[inline(always)]
-    fn free(&self, y: &mut QM, h: f64) {
+    pub(super) fn free(&self, y: &mut QM, h: f64) {
         let inertia = self.top.inertia();
         if self.top.symmetric() {
             let l = y.q.rotate(y.m);
@@ -151,7 +157,7 @@ impl Splitting<'_> {
     /// which also leaves M3 untouched; it is of round-off size, so the method's order and
     /// long-time behaviour are those of the exact composition.
     #[inline(always)]
-    fn restore_mz(&self, y: &mut QM) {
+    pub(super) fn restore_mz(&self, y: &mut QM) {
         let g = y.q.up_in_body();
         let d = y.mz - dot(y.m, g);
         let h2 = g[0] * g[0] + g[1] * g[1];

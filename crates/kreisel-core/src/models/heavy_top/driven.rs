@@ -1,0 +1,1312 @@
+//! Heavy tops on a moving pivot, with friction at the pivot and air drag: the tops that are
+//! no longer integrable (theory: driven and damped tops).
+//!
+//! The pivot O follows a prescribed path r_O(t). In the frame that translates with O (it
+//! does not rotate) the body feels gravity and the inertial force `-m a_O(t)` at its centre
+//! of mass, so Euler's equations about O keep their form with the torque
+//! `m (g Gamma + A) x c`, A the pivot's acceleration seen in the body frame. The pivot's
+//! force on the body is `R = m (a_G + g e_z)`; it works at the rate `R . v_O`. Damping
+//! torques: viscous `-c omega`, air drag `-k |omega| omega`, and dry Coulomb friction in a
+//! ball joint of radius r_p, a torque of magnitude up to `mu_p r_p |R|` against the rotation.
+//!
+//! The state integrated is `y = (q, omega, W, D)`: orientation, body angular velocity, the
+//! work done by the pivot and the energy dissipated, so that `E + D - W` (E the lab-frame
+//! energy) is a constant of every run, to the integration tolerance.
+//!
+//! Dry friction makes the top a hybrid system. While it turns, `|R|` depends on the angular
+//! acceleration, which depends on the friction torque; with `R = R0 + s R1` affine in the
+//! friction magnitude s (= |R|), `s = |R0 + s R1|` is a quadratic with exactly one root
+//! s >= 0 when `|R1| < 1`, which the constructor ensures (else the friction force would be
+//! ambiguous, as in Painleve's paradox). The top sticks when it comes to rest relative to the
+//! pivot and the torque that keeps it there, `m (g Gamma + A) x c`, is within the bound,
+//! i.e. `|(g Gamma + A) x c| <= mu_p r_p |g Gamma + A|`; it slips again when that fails.
+
+use std::sync::Arc;
+
+use super::equations::{pack, unpack};
+use super::simulate::{builtin_event, HeavySummary};
+use super::splitting::{Splitting, QM as SplitQM};
+use super::{HeavyTop, RigidState};
+use crate::error::{finite, non_negative, KreiselError, Result};
+use crate::integrate::fixed::{self, FixedScheme};
+use crate::integrate::implicit::{Gauss4, Midpoint};
+use crate::integrate::rk4::Rk4Scheme;
+use crate::integrate::{Dop853, EventSpec, Locator, OdeSystem, Stream, WithEvents};
+use crate::rotation::{cross, dot, euler_from_quaternion, norm, Quat};
+use crate::simulate::{
+    self, integrate_error, relative, Accumulate, EventKind, EventRecord, MethodInfo, Model,
+    RunInfo, Settings, Sink, Stats, Status, Unwrapped, UserFn, MAX_STEPS,
+};
+
+/// The dimension of the integrated state `(q, omega, W, D)`.
+pub const DIM: usize = 9;
+
+/// A pivot path as a piecewise polynomial of degree 5 (C2, built by the caller, e.g. a
+/// quintic spline with zero velocity and acceleration at both ends), constant outside its
+/// breakpoints.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PathSpline {
+    breaks: Vec<f64>,
+    /// Per interval and coordinate: the coefficients of `(t - t_i)^5 .. (t - t_i)^0`.
+    coef: Vec<[[f64; 6]; 3]>,
+    /// Largest |acceleration| at the breakpoints and interval midpoints (a scale).
+    a_max: f64,
+    /// Largest |velocity| likewise.
+    v_max: f64,
+    vertical: bool,
+}
+
+/// Position, velocity and acceleration of the pivot (space frame).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct PivotKin {
+    /// Position (m).
+    pub p: [f64; 3],
+    /// Velocity (m/s).
+    pub v: [f64; 3],
+    /// Acceleration (m/s^2).
+    pub a: [f64; 3],
+}
+
+impl PathSpline {
+    /// A path from its breakpoints (strictly increasing, at least 2) and coefficients laid
+    /// out as scipy's `PPoly.c` of a 3-vector path, shape (6, intervals, 3), in C order.
+    pub fn new(breaks: Vec<f64>, coef: &[f64]) -> Result<Self> {
+        if breaks.len() < 2 {
+            return Err(KreiselError::invalid(
+                "t",
+                breaks.len() as f64,
+                "a pivot path needs at least 2 samples",
+            ));
+        }
+        for (i, &b) in breaks.iter().enumerate() {
+            finite(&format!("t[{i}]"), b)?;
+            if i > 0 && b <= breaks[i - 1] {
+                return Err(KreiselError::invalid(
+                    &format!("t[{i}]"),
+                    b,
+                    format!(
+                        "sample times must increase strictly (t[{}] = {})",
+                        i - 1,
+                        breaks[i - 1]
+                    ),
+                ));
+            }
+        }
+        let m = breaks.len() - 1;
+        if coef.len() != 6 * m * 3 {
+            return Err(KreiselError::invalid(
+                "position",
+                coef.len() as f64,
+                format!("a path of {m} intervals has 6 x {m} x 3 coefficients"),
+            ));
+        }
+        let mut c = vec![[[0.0; 6]; 3]; m];
+        for (k, &x) in coef.iter().enumerate() {
+            finite("position", x)?;
+            let (deg, rest) = (k / (3 * m), k % (3 * m));
+            c[rest / 3][rest % 3][deg] = x;
+        }
+        let vertical = c
+            .iter()
+            .all(|iv| iv[0][..5].iter().chain(&iv[1][..5]).all(|&x| x == 0.0));
+        let mut path = PathSpline {
+            breaks,
+            coef: c,
+            a_max: 0.0,
+            v_max: 0.0,
+            vertical,
+        };
+        let (mut a_max, mut v_max) = (0.0f64, 0.0f64);
+        for i in 0..m {
+            for f in [0.0, 0.5, 1.0] {
+                let t = path.breaks[i] + f * (path.breaks[i + 1] - path.breaks[i]);
+                let k = path.interval_kin(i, t);
+                a_max = a_max.max(norm(k.a));
+                v_max = v_max.max(norm(k.v));
+            }
+        }
+        path.a_max = a_max;
+        path.v_max = v_max;
+        Ok(path)
+    }
+
+    fn interval_kin(&self, i: usize, t: f64) -> PivotKin {
+        let x = t - self.breaks[i];
+        let mut k = PivotKin::default();
+        for d in 0..3 {
+            // Horner on c_j (t - t_i)^(5 - j) and its first two derivatives.
+            let (mut p, mut v, mut a) = (0.0, 0.0, 0.0);
+            for (j, &cj) in self.coef[i][d].iter().enumerate() {
+                let n = (5 - j) as f64;
+                p = p * x + cj;
+                if j < 5 {
+                    v = v * x + cj * n;
+                }
+                if j < 4 {
+                    a = a * x + cj * n * (n - 1.0);
+                }
+            }
+            k.p[d] = p;
+            k.v[d] = v;
+            k.a[d] = a;
+        }
+        k
+    }
+
+    /// The pivot's motion at time t: the polynomial's inside, at rest outside.
+    pub fn kin(&self, t: f64) -> PivotKin {
+        let m = self.coef.len();
+        if t <= self.breaks[0] {
+            let k = self.interval_kin(0, self.breaks[0]);
+            return PivotKin {
+                p: k.p,
+                ..PivotKin::default()
+            };
+        }
+        if t >= self.breaks[m] {
+            let k = self.interval_kin(m - 1, self.breaks[m]);
+            return PivotKin {
+                p: k.p,
+                ..PivotKin::default()
+            };
+        }
+        let i = self
+            .breaks
+            .partition_point(|&b| b <= t)
+            .saturating_sub(1)
+            .min(m - 1);
+        self.interval_kin(i, t)
+    }
+}
+
+/// How the pivot moves.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Pivot {
+    /// At rest at the origin.
+    Fixed,
+    /// `r_O(t) = amplitude cos(omega t + phase)`.
+    Harmonic {
+        /// Amplitude vector (m, space frame).
+        amplitude: [f64; 3],
+        /// Angular frequency (rad/s).
+        omega: f64,
+        /// Phase (rad).
+        phase: f64,
+    },
+    /// A sampled path.
+    Path(Arc<PathSpline>),
+}
+
+impl Pivot {
+    /// A harmonic pivot, validated.
+    pub fn harmonic(amplitude: [f64; 3], omega: f64, phase: f64) -> Result<Pivot> {
+        for (i, &a) in amplitude.iter().enumerate() {
+            finite(&format!("amplitude[{i}]"), a)?;
+        }
+        if !(0.0..=1e9).contains(&omega) {
+            return Err(KreiselError::invalid(
+                "omega",
+                omega,
+                "it must be a finite angular frequency in [0, 1e9] rad/s",
+            ));
+        }
+        finite("phase", phase)?;
+        Ok(Pivot::Harmonic {
+            amplitude,
+            omega,
+            phase,
+        })
+    }
+
+    /// Position, velocity and acceleration at time t.
+    #[inline]
+    pub fn kin(&self, t: f64) -> PivotKin {
+        match self {
+            Pivot::Fixed => PivotKin::default(),
+            Pivot::Harmonic {
+                amplitude,
+                omega,
+                phase,
+            } => {
+                let (s, c) = (omega * t + phase).sin_cos();
+                let w2 = omega * omega;
+                PivotKin {
+                    p: amplitude.map(|a| a * c),
+                    v: amplitude.map(|a| -a * omega * s),
+                    a: amplitude.map(|a| -a * w2 * c),
+                }
+            }
+            Pivot::Path(p) => p.kin(t),
+        }
+    }
+
+    /// True when the pivot moves along the vertical only (or not at all): then Mz is kept.
+    pub fn vertical(&self) -> bool {
+        match self {
+            Pivot::Fixed => true,
+            Pivot::Harmonic { amplitude, .. } => amplitude[0] == 0.0 && amplitude[1] == 0.0,
+            Pivot::Path(p) => p.vertical,
+        }
+    }
+
+    /// True for a pivot at rest.
+    pub fn fixed(&self) -> bool {
+        match self {
+            Pivot::Fixed => true,
+            Pivot::Harmonic {
+                amplitude, omega, ..
+            } => *omega == 0.0 || amplitude.iter().all(|&a| a == 0.0),
+            Pivot::Path(_) => false,
+        }
+    }
+
+    /// Scales of the pivot's acceleration and speed.
+    fn scales(&self) -> (f64, f64) {
+        match self {
+            Pivot::Fixed => (0.0, 0.0),
+            Pivot::Harmonic {
+                amplitude, omega, ..
+            } => {
+                let a = norm(*amplitude);
+                (a * omega * omega, a * omega)
+            }
+            Pivot::Path(p) => (p.a_max, p.v_max),
+        }
+    }
+}
+
+/// Torques at the pivot.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Damping {
+    /// Viscous coefficient c (N m s): torque `-c omega`.
+    pub viscous: f64,
+    /// Air-drag coefficient k (N m s^2): torque `-k |omega| omega`.
+    pub drag: f64,
+    /// Dry friction coefficient of the ball joint (1).
+    pub dry: f64,
+    /// Radius of the ball joint (m).
+    pub pivot_radius: f64,
+}
+
+impl Damping {
+    /// Validated damping.
+    pub fn new(viscous: f64, drag: f64, dry: f64, pivot_radius: f64) -> Result<Damping> {
+        Ok(Damping {
+            viscous: non_negative("viscous", viscous)?,
+            drag: non_negative("drag", drag)?,
+            dry: non_negative("dry", dry)?,
+            pivot_radius: non_negative("pivot_radius", pivot_radius)?,
+        })
+    }
+
+    /// Whether any damping acts.
+    pub fn any(&self) -> bool {
+        self.viscous > 0.0 || self.drag > 0.0 || self.dry * self.pivot_radius > 0.0
+    }
+}
+
+/// A heavy top on a moving pivot, damped.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DrivenTop {
+    top: HeavyTop,
+    pivot: Pivot,
+    damping: Damping,
+    /// mu_p r_p (m)
+    kdry: f64,
+    /// The pivot's time at the run's t = 0 (a run continued from a later time).
+    t0: f64,
+}
+
+/// One output row of a driven top: time, `(q, omega, W, D)`, and whether it sticks.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DrivenRow {
+    /// Time of the row (s), from the run's start.
+    pub t: f64,
+    /// `(q, omega, W, D)`.
+    pub y: [f64; DIM],
+    /// True while dry friction holds the top at rest relative to the pivot.
+    pub stuck: bool,
+}
+
+impl DrivenRow {
+    /// The rigid state of the row.
+    pub fn state(&self) -> RigidState {
+        let mut q = [0.0; 7];
+        q.copy_from_slice(&self.y[..7]);
+        unpack(&q)
+    }
+}
+
+/// What the equations give at one state.
+#[derive(Debug, Clone, Copy, Default)]
+struct Eval {
+    dw: [f64; 3],
+    /// The pivot's force on the body, body frame (N).
+    r: [f64; 3],
+    power_pivot: f64,
+    power_dissipated: f64,
+}
+
+impl DrivenTop {
+    /// A heavy top on `pivot` with `damping`.
+    pub fn new(top: HeavyTop, pivot: Pivot, damping: Damping) -> Result<DrivenTop> {
+        let kdry = damping.dry * damping.pivot_radius;
+        if !kdry.is_finite() {
+            return Err(KreiselError::invalid(
+                "dry",
+                damping.dry,
+                "dry * pivot_radius must be finite",
+            ));
+        }
+        let i = top.inertia();
+        let i_min = i[0].min(i[1]).min(i[2]);
+        let lever = kdry * top.m() * norm(top.com()) / i_min;
+        if lever >= 1.0 {
+            return Err(KreiselError::invalid(
+                "dry",
+                damping.dry,
+                format!(
+                    "dry * pivot_radius * m * |com| / min(I) = {lever:.6} must be < 1: with so \
+                     large a joint the friction torque would not be determined by the motion \
+                     (as in Painleve's paradox)"
+                ),
+            ));
+        }
+        Ok(DrivenTop {
+            top,
+            pivot,
+            damping,
+            kdry,
+            t0: 0.0,
+        })
+    }
+
+    /// The same top with its pivot's clock started at `t0`: a run continued from time t0.
+    pub fn later(&self, t0: f64) -> DrivenTop {
+        DrivenTop {
+            t0: self.t0 + t0,
+            ..self.clone()
+        }
+    }
+
+    /// The top on the pivot.
+    pub fn top(&self) -> &HeavyTop {
+        &self.top
+    }
+    /// The pivot.
+    pub fn pivot(&self) -> &Pivot {
+        &self.pivot
+    }
+    /// The damping.
+    pub fn damping(&self) -> Damping {
+        self.damping
+    }
+    /// The pivot's clock at the run's start.
+    pub fn t0(&self) -> f64 {
+        self.t0
+    }
+
+    /// Whether the top is Hamiltonian (no damping): the splittings apply.
+    pub fn hamiltonian(&self) -> bool {
+        !self.damping.any()
+    }
+
+    /// `g Gamma + A` in the body frame: the acceleration that gravity and the pivot's
+    /// inertial force give, as felt in the pivot's frame.
+    #[inline(always)]
+    fn effective_gravity(&self, q: Quat, k: &PivotKin) -> [f64; 3] {
+        let gamma = q.up_in_body();
+        let a = q.rotate_inv(k.a);
+        let g = self.top.g();
+        [
+            g * gamma[0] + a[0],
+            g * gamma[1] + a[1],
+            g * gamma[2] + a[2],
+        ]
+    }
+
+    /// The sticking margin `|geff x c| - mu_p r_p |geff|` (per unit mass): <= 0 where dry
+    /// friction holds a top at rest relative to the pivot.
+    pub fn stick_margin(&self, t: f64, q: Quat) -> f64 {
+        let k = self.pivot.kin(t + self.t0);
+        let ge = self.effective_gravity(q, &k);
+        norm(cross(ge, self.top.com())) - self.kdry * norm(ge)
+    }
+
+    #[inline(always)]
+    fn eval(&self, t: f64, q: Quat, w: [f64; 3], stuck: bool) -> Eval {
+        let k = self.pivot.kin(t + self.t0);
+        let ge = self.effective_gravity(q, &k);
+        let (m, c) = (self.top.m(), self.top.com());
+        let v_b = q.rotate_inv(k.v);
+        if stuck {
+            let r = ge.map(|x| m * x);
+            return Eval {
+                dw: [0.0; 3],
+                r,
+                power_pivot: dot(r, v_b),
+                power_dissipated: 0.0,
+            };
+        }
+        let inertia = self.top.inertia();
+        let iw = self.top.momentum(w);
+        let gyro = cross(iw, w);
+        let tg = cross(ge, c);
+        let wn = norm(w);
+        let (cv, cd) = (self.damping.viscous, self.damping.drag);
+        let drag = cv + cd * wn;
+        let tau0 = [
+            gyro[0] + m * tg[0] - drag * w[0],
+            gyro[1] + m * tg[1] - drag * w[1],
+            gyro[2] + m * tg[2] - drag * w[2],
+        ];
+        let alpha0 = self.top.omega(tau0);
+        let cen = cross(w, cross(w, c));
+        let ac = cross(alpha0, c);
+        let base = [
+            m * (ge[0] + ac[0] + cen[0]),
+            m * (ge[1] + ac[1] + cen[1]),
+            m * (ge[2] + ac[2] + cen[2]),
+        ];
+        let mut e = Eval {
+            dw: alpha0,
+            r: base,
+            power_pivot: 0.0,
+            power_dissipated: drag * wn * wn,
+        };
+        if self.kdry > 0.0 {
+            // The direction the friction torque opposes: the rotation's, or at rest the
+            // torque's that starts it (to leading order the same, see the module's notes).
+            let dir = if wn > 0.0 { w } else { tau0 };
+            let dn = norm(dir);
+            if dn > 0.0 {
+                let u = dir.map(|x| x / dn);
+                let iu = [
+                    self.kdry * u[0] / inertia[0],
+                    self.kdry * u[1] / inertia[1],
+                    self.kdry * u[2] / inertia[2],
+                ];
+                let r1 = cross(iu, c).map(|x| -m * x);
+                let a = 1.0 - dot(r1, r1);
+                let b = dot(base, r1);
+                let s = (b + (b * b + a * dot(base, base)).sqrt()) / a;
+                for i in 0..3 {
+                    e.dw[i] -= s * iu[i];
+                    e.r[i] += s * r1[i];
+                }
+                e.power_dissipated += s * self.kdry * wn;
+            }
+        }
+        e.power_pivot = dot(e.r, v_b);
+        e
+    }
+
+    /// Lab-frame energy: kinetic energy of the moving body and `m g z_G` (J).
+    pub fn energy(&self, t: f64, s: &RigidState) -> f64 {
+        let k = self.pivot.kin(t + self.t0);
+        let (m, c) = (self.top.m(), self.top.com());
+        let v_b = s.q.rotate_inv(k.v);
+        let iw = self.top.momentum(s.omega);
+        0.5 * dot(s.omega, iw)
+            + m * dot(v_b, cross(s.omega, c))
+            + 0.5 * m * dot(k.v, k.v)
+            + m * self.top.g() * (k.p[2] + dot(c, s.q.up_in_body()))
+    }
+
+    /// The pivot's force on the body (space frame, N), the power it puts in and the power
+    /// dissipated (W) at a state.
+    pub fn forces(&self, t: f64, s: &RigidState, stuck: bool) -> ([f64; 3], f64, f64) {
+        let e = self.eval(t, s.q, s.omega, stuck);
+        (s.q.rotate(e.r), e.power_pivot, e.power_dissipated)
+    }
+
+    /// A rate scale of the motion from `s0` (rad/s): its own or the pendulum's.
+    fn rate_scale(&self, s0: &RigidState) -> f64 {
+        let i = self.top.inertia();
+        let (a_max, _) = self.pivot.scales();
+        let pend = (self.top.m() * (self.top.g() + a_max) * norm(self.top.com())
+            / i[0].min(i[1]).min(i[2]))
+        .sqrt();
+        let s = norm(s0.omega).max(pend);
+        if s > 0.0 && s.is_finite() {
+            s
+        } else {
+            1.0
+        }
+    }
+
+    /// The energy scale of the motion from `s0` (J): kinetic, potential and the pivot's.
+    fn energy_scale(&self, s0: &RigidState) -> f64 {
+        let (a_max, v_max) = self.pivot.scales();
+        let m = self.top.m();
+        let c = norm(self.top.com());
+        let iw = self.top.momentum(s0.omega);
+        0.5 * dot(s0.omega, iw) + m * (self.top.g() + a_max) * c + 0.5 * m * v_max * v_max
+    }
+}
+
+/// The driven top as a first-order system on `(q, omega, W, D)` (or `(q, M, W, D)` with
+/// `MOMENTUM`, the variables of the implicit Gauss methods), in one phase: turning, or
+/// held by dry friction (`stuck`: the orientation stays, only the pivot's work grows).
+pub struct Driven<'a, const MOMENTUM: bool> {
+    top: &'a DrivenTop,
+    stuck: bool,
+}
+
+impl<const MOMENTUM: bool> OdeSystem<DIM> for Driven<'_, MOMENTUM> {
+    #[inline(always)]
+    fn rhs(&self, t: f64, y: &[f64; DIM], dy: &mut [f64; DIM]) {
+        let q = Quat([y[0], y[1], y[2], y[3]]);
+        let raw = [y[4], y[5], y[6]];
+        let w = if MOMENTUM {
+            self.top.top.omega(raw)
+        } else {
+            raw
+        };
+        let e = self.top.eval(t, q, w, self.stuck);
+        if self.stuck {
+            dy[..7].fill(0.0);
+        } else {
+            dy[..4].copy_from_slice(&q.half_times_pure(w));
+            let dw = if MOMENTUM {
+                self.top.top.momentum(e.dw)
+            } else {
+                e.dw
+            };
+            dy[4..7].copy_from_slice(&dw);
+        }
+        dy[7] = e.power_pivot;
+        dy[8] = e.power_dissipated;
+    }
+
+    fn project(&self, y: &mut [f64; DIM]) {
+        if !MOMENTUM {
+            let n = (y[0] * y[0] + y[1] * y[1] + y[2] * y[2] + y[3] * y[3]).sqrt();
+            for v in y.iter_mut().take(4) {
+                *v /= n;
+            }
+        }
+    }
+}
+
+fn pack9(s: &RigidState) -> [f64; DIM] {
+    let p = pack(s);
+    let mut y = [0.0; DIM];
+    y[..7].copy_from_slice(&p);
+    y
+}
+
+fn state_of(y: &[f64; DIM]) -> RigidState {
+    let mut p = [0.0; 7];
+    p.copy_from_slice(&y[..7]);
+    unpack(&p)
+}
+
+/// The events a driven top has (those of the fixed heavy top).
+const EVENTS: [EventKind; 3] = [
+    EventKind::TurningPoints,
+    EventKind::ThetaCrossing(0.0),
+    EventKind::User,
+];
+
+type RawEventFn<'a> = Box<dyn FnMut(f64, &[f64; DIM]) -> f64 + 'a>;
+
+/// The phase of a run with dry friction.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Phase {
+    /// Turning relative to the pivot; watching for rest.
+    Turning,
+    /// Turning again after passing through rest without sticking; watching for the rate
+    /// to rise clear of the rest threshold.
+    Passing,
+    /// Held at rest relative to the pivot.
+    Stuck,
+}
+
+impl Model for DrivenTop {
+    type State = RigidState;
+    type Row = DrivenRow;
+    type Summary = HeavySummary;
+    type Acc<'a> = DrivenAcc<'a>;
+    const NAME: &'static str = "driven heavy top";
+
+    fn check(&self, settings: &Settings, info: &MethodInfo) -> Result<()> {
+        settings.unsupported_event(Self::NAME, &EVENTS)?;
+        if settings.reduced {
+            return Err(KreiselError::InvalidParameter {
+                name: "reduced".into(),
+                value: "True".into(),
+                allowed: "the reduced route uses the momenta p_phi and p_psi of a fixed, \
+                          undamped Lagrange top; a moving pivot or damping does not keep them"
+                    .into(),
+            });
+        }
+        let refuse = |why: &str| {
+            Err(KreiselError::InvalidParameter {
+                name: "method".into(),
+                value: format!("{:?}", info.name),
+                allowed: why.into(),
+            })
+        };
+        match info.name {
+            "dop853" => Ok(()),
+            "rk4" | "midpoint" | "gauss4" if self.kdry > 0.0 => refuse(
+                "dry friction at the pivot sticks and slips; only \"dop853\" locates those \
+                 switches (the fixed-step methods take moving pivots, viscous and drag damping)",
+            ),
+            "rk4" | "midpoint" | "gauss4" => Ok(()),
+            "splitting" | "splitting4" | "splitting6" if !self.hamiltonian() => refuse(
+                "the splittings are symplectic and a damped top is not Hamiltonian: use \
+                 \"dop853\", or \"rk4\", \"midpoint\", \"gauss4\" without dry friction",
+            ),
+            "splitting" | "splitting4" | "splitting6" => Ok(()),
+            "verlet" => refuse(
+                "\"verlet\" works on the Euler-angle Hamiltonian of a fixed, undamped \
+                 symmetric top; use \"splitting\" (moving pivot, no damping) or \"dop853\"",
+            ),
+            _ => refuse("a method of simulate::METHODS"),
+        }
+    }
+
+    fn run(
+        &self,
+        s0: &RigidState,
+        settings: &Settings,
+        user: &mut [UserFn<'_, RigidState>],
+        keep_going: &mut dyn FnMut(f64) -> bool,
+        sink: Sink<'_, DrivenRow>,
+    ) -> Result<RunInfo> {
+        let info = simulate::method(&settings.method)?;
+        if info.adaptive {
+            return self.run_adaptive(s0, settings, user, keep_going, sink);
+        }
+        let dt = settings.dt.ok_or_else(|| {
+            KreiselError::invalid("dt", f64::NAN, "a fixed-step method needs dt > 0")
+        })?;
+        let te = settings.t_eval.as_deref();
+        let t_end = settings.t_end;
+        let out = match info.name {
+            "rk4" => {
+                let sys = Driven::<false> {
+                    top: self,
+                    stuck: false,
+                };
+                let sch = Rk4Scheme::<_, DIM> { sys: &sys };
+                let rec = |t: f64, y: &([f64; DIM], f64)| {
+                    sink(
+                        t,
+                        &DrivenRow {
+                            t,
+                            y: y.0,
+                            stuck: false,
+                        },
+                    )
+                };
+                (
+                    fixed::run(&sch, (pack9(s0), 0.0), t_end, dt, te, rec, keep_going)?,
+                    4,
+                )
+            }
+            "midpoint" | "gauss4" => {
+                let sys = Driven::<true> {
+                    top: self,
+                    stuck: false,
+                };
+                let mut y0 = pack9(s0);
+                y0[4..7].copy_from_slice(&self.top.momentum(s0.omega));
+                let top = &self.top;
+                let rec = |t: f64, y: &([f64; DIM], f64)| {
+                    let mut r = y.0;
+                    let n = Quat([r[0], r[1], r[2], r[3]]).normalized();
+                    r[..4].copy_from_slice(&n.0);
+                    let w = top.omega([r[4], r[5], r[6]]);
+                    r[4..7].copy_from_slice(&w);
+                    sink(
+                        t,
+                        &DrivenRow {
+                            t,
+                            y: r,
+                            stuck: false,
+                        },
+                    )
+                };
+                if info.name == "midpoint" {
+                    let sch = Midpoint::<_, DIM> { sys: &sys };
+                    (
+                        fixed::run(&sch, (y0, 0.0), t_end, dt, te, rec, keep_going)?,
+                        0,
+                    )
+                } else {
+                    let sch = Gauss4::<_, DIM> { sys: &sys };
+                    (
+                        fixed::run(&sch, (y0, 0.0), t_end, dt, te, rec, keep_going)?,
+                        0,
+                    )
+                }
+            }
+            _ => {
+                let sch = DrivenSplitting::new(self, info.order)?;
+                let y0 = sch.encode(s0);
+                let rec = |t: f64, y: &SplitY| sink(t, &sch.decode(t, y));
+                (fixed::run(&sch, y0, t_end, dt, te, rec, keep_going)?, 0)
+            }
+        };
+        let ((steps, done), per_step) = out;
+        Ok(RunInfo {
+            stats: Stats {
+                steps,
+                rejected: 0,
+                rhs_evals: steps * per_step,
+            },
+            events: Vec::new(),
+            status: if done {
+                Status::Completed
+            } else {
+                Status::Interrupted
+            },
+        })
+    }
+
+    fn summary<'a>(&'a self, s0: &RigidState, _settings: &Settings) -> DrivenAcc<'a> {
+        DrivenAcc::new(self, s0)
+    }
+
+    type Columns = DrivenColumns;
+
+    fn column_names(&self) -> Vec<&'static str> {
+        DRIVEN_COLUMNS.to_vec()
+    }
+
+    fn columns(&self, rows: &[DrivenRow]) -> DrivenColumns {
+        DrivenTop::columns(self, rows)
+    }
+}
+
+impl DrivenTop {
+    /// The adaptive run (DOP853), phase by phase where dry friction sticks and slips.
+    fn run_adaptive(
+        &self,
+        s0: &RigidState,
+        settings: &Settings,
+        user: &mut [UserFn<'_, RigidState>],
+        keep_going: &mut dyn FnMut(f64) -> bool,
+        sink: Sink<'_, DrivenRow>,
+    ) -> Result<RunInfo> {
+        let integrator = Dop853 {
+            rtol: settings.rtol,
+            atol: settings.atol,
+            h_init: None,
+            h_max: f64::INFINITY,
+            max_steps: MAX_STEPS,
+        };
+        let t_end = settings.t_end;
+        let dry = self.kdry > 0.0;
+        // The rate below which a turning top counts as at rest relative to the pivot.
+        let w_rest = 1e-9 * self.rate_scale(s0);
+        let mut y = pack9(s0);
+        let mut t = 0.0;
+        let mut phase = if dry && norm(s0.omega) == 0.0 && self.stick_margin(0.0, s0.q) <= 0.0 {
+            Phase::Stuck
+        } else {
+            Phase::Turning
+        };
+        let mut stats = Stats::default();
+        let mut events = Vec::new();
+        let mut taken = 0usize;
+        let mut first = true;
+        let status = loop {
+            let stuck = phase == Phase::Stuck;
+            let mut out = |ti: f64, yy: &[f64; DIM]| {
+                sink(
+                    ti,
+                    &DrivenRow {
+                        t: ti,
+                        y: *yy,
+                        stuck,
+                    },
+                )
+            };
+            let mut stream = Stream::new(
+                settings.t_eval.as_deref(),
+                !first,
+                Some(&mut *keep_going),
+                &mut out,
+            );
+            stream.taken = taken;
+            let mut users = user.iter_mut();
+            let mut fns: Vec<RawEventFn<'_>> = Vec::with_capacity(settings.events.len() + 1);
+            for e in &settings.events {
+                let kind = e.kind;
+                fns.push(match kind {
+                    EventKind::User => {
+                        let f = users.next().ok_or_else(|| {
+                            KreiselError::invalid(
+                                "events",
+                                f64::NAN,
+                                "a user event has no function",
+                            )
+                        })?;
+                        Box::new(move |tt: f64, yy: &[f64; DIM]| f(tt, &state_of(yy)))
+                    }
+                    _ => {
+                        Box::new(move |_t: f64, yy: &[f64; DIM]| builtin_event(kind, &state_of(yy)))
+                    }
+                });
+            }
+            let n_user = fns.len();
+            if dry {
+                fns.push(match phase {
+                    Phase::Stuck => {
+                        Box::new(|tt: f64, yy: &[f64; DIM]| self.stick_margin(tt, state_of(yy).q))
+                    }
+                    Phase::Turning => Box::new(move |_t: f64, yy: &[f64; DIM]| {
+                        norm([yy[4], yy[5], yy[6]]) - w_rest
+                    }),
+                    Phase::Passing => Box::new(move |_t: f64, yy: &[f64; DIM]| {
+                        norm([yy[4], yy[5], yy[6]]) - 2.0 * w_rest
+                    }),
+                });
+            }
+            let mut locator = Locator::new();
+            for (i, f) in fns.iter_mut().enumerate() {
+                let spec = if i < n_user {
+                    let e = &settings.events[i];
+                    EventSpec::new(e.direction, e.terminal)
+                } else {
+                    EventSpec::new(if phase == Phase::Turning { -1 } else { 1 }, true)
+                };
+                locator.add(spec, f.as_mut());
+            }
+            let mut obs = WithEvents::new(locator, &mut stream);
+            let sys = Driven::<false> { top: self, stuck };
+            let result = integrator.integrate(&sys, t, y, t_end, &mut obs);
+            let (t1, y1, st) = result.map_err(|e| integrate_error(e, t_end))?;
+            stats += st;
+            let mut switched = false;
+            let mut terminal = false;
+            for e in &obs.locator.events {
+                if e.index >= n_user {
+                    switched = true;
+                    continue;
+                }
+                terminal |= settings.events[e.index].terminal;
+                events.push(EventRecord {
+                    index: Some(e.index),
+                    name: settings.events[e.index].name.clone().into(),
+                    t: e.t,
+                    part: None,
+                });
+            }
+            drop(obs);
+            taken = stream.taken;
+            if terminal {
+                break Status::Event;
+            }
+            if !switched {
+                break if t1 < t_end {
+                    Status::Interrupted
+                } else {
+                    Status::Completed
+                };
+            }
+            t = t1;
+            y = y1;
+            first = false;
+            phase = match phase {
+                Phase::Stuck | Phase::Passing => Phase::Turning,
+                Phase::Turning => {
+                    let s = state_of(&y);
+                    if self.stick_margin(t, s.q) <= 0.0 {
+                        // Held: the rest of the rotation's energy (of the order of w_rest^2)
+                        // is counted as dissipated, so E + D - W stays what it was.
+                        let before = self.energy(t, &s);
+                        y[4..7].fill(0.0);
+                        y[8] += before - self.energy(t, &state_of(&y));
+                        Phase::Stuck
+                    } else {
+                        Phase::Passing
+                    }
+                }
+            };
+            if t >= t_end {
+                break Status::Completed;
+            }
+        };
+        Ok(RunInfo {
+            stats,
+            events,
+            status,
+        })
+    }
+}
+
+/// The splittings' state for a driven top: the splitting's own, the time, the pivot's work
+/// and the last power it put in (the work is summed by the trapezoidal rule over the steps).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SplitY {
+    qm: SplitQM,
+    t: f64,
+    work: f64,
+    power: f64,
+}
+
+/// The splittings of [`Splitting`] on a moving pivot, undamped: in extended phase space the
+/// Hamiltonian `T(M) + m (g e_z + a_O(t)) . r_G + p_t` splits into the free rotation (which
+/// also advances the time) and a kick at frozen time, both exact, so every composition stays
+/// symplectic. Mz is restored after each step only where the pivot moves vertically.
+pub struct DrivenSplitting<'a> {
+    top: &'a DrivenTop,
+    split: Splitting<'a>,
+}
+
+impl<'a> DrivenSplitting<'a> {
+    fn new(top: &'a DrivenTop, order: u32) -> Result<Self> {
+        Ok(DrivenSplitting {
+            top,
+            split: Splitting::new(&top.top, order)?,
+        })
+    }
+
+    fn encode(&self, s: &RigidState) -> SplitY {
+        let e = self.top.eval(0.0, s.q, s.omega, false);
+        SplitY {
+            qm: self.split.encode(s),
+            t: 0.0,
+            work: 0.0,
+            power: e.power_pivot,
+        }
+    }
+
+    fn decode(&self, t: f64, y: &SplitY) -> DrivenRow {
+        let s = self.split.decode(&y.qm);
+        let mut r = pack9(&s);
+        r[7] = y.work;
+        DrivenRow {
+            t,
+            y: r,
+            stuck: false,
+        }
+    }
+
+    #[inline(always)]
+    fn kick(&self, y: &mut SplitY, h: f64) {
+        let k = self.top.pivot.kin(y.t + self.top.t0);
+        let ge = self.top.effective_gravity(y.qm.q, &k);
+        let tq = cross(ge, self.top.top.com());
+        let m = self.top.top.m();
+        for (mi, ti) in y.qm.m.iter_mut().zip(tq) {
+            *mi += h * m * ti;
+        }
+    }
+}
+
+impl FixedScheme for DrivenSplitting<'_> {
+    type Y = SplitY;
+    fn step(&self, y: &mut SplitY, h: f64) -> Result<()> {
+        let t_start = y.t;
+        for &w in self.split.weights() {
+            self.kick(y, 0.5 * w * h);
+            self.split.free(&mut y.qm, w * h);
+            y.t += w * h;
+            self.kick(y, 0.5 * w * h);
+        }
+        // The composition's time ends at t + h up to rounding: put it there exactly.
+        y.t = t_start + h;
+        if self.top.pivot.vertical() {
+            self.split.restore_mz(&mut y.qm);
+        } else {
+            y.qm.mz = dot(y.qm.m, y.qm.q.up_in_body());
+        }
+        let s = self.split.decode(&y.qm);
+        let p = self.top.eval(y.t, s.q, s.omega, false).power_pivot;
+        y.work += 0.5 * h * (y.power + p);
+        y.power = p;
+        if !(y.qm.m.iter().all(|x| x.is_finite()) && y.qm.q.0.iter().all(|x| x.is_finite())) {
+            return Err(KreiselError::Numerical(format!(
+                "splitting: the state became non-finite at t = {}",
+                y.t
+            )));
+        }
+        Ok(())
+    }
+}
+
+/// The names of a driven top's diagnostics columns.
+pub const DRIVEN_COLUMNS: [&str; 15] = [
+    "theta",
+    "phi",
+    "psi",
+    "energy",
+    "potential",
+    "Mz",
+    "pivot_position",
+    "pivot_velocity",
+    "reaction_force",
+    "power_pivot",
+    "power_dissipated",
+    "work_by_pivot",
+    "dissipated",
+    "balance",
+    "stuck",
+];
+
+/// Diagnostics of a driven top's run, as columns.
+#[derive(Debug, Clone, Default)]
+pub struct DrivenColumns {
+    /// Nutation angle (rad).
+    pub theta: Vec<f64>,
+    /// Precession angle, unwrapped (rad).
+    pub phi: Vec<f64>,
+    /// Spin angle, unwrapped (rad).
+    pub psi: Vec<f64>,
+    /// Lab-frame energy (J).
+    pub energy: Vec<f64>,
+    /// m g z_G (J).
+    pub potential: Vec<f64>,
+    /// Vertical angular momentum about the pivot (kg m^2/s).
+    pub mz: Vec<f64>,
+    /// Pivot position (m).
+    pub pivot_position: Vec<[f64; 3]>,
+    /// Pivot velocity (m/s).
+    pub pivot_velocity: Vec<[f64; 3]>,
+    /// The pivot's force on the top, space frame (N).
+    pub reaction_force: Vec<[f64; 3]>,
+    /// R . v_O (W).
+    pub power_pivot: Vec<f64>,
+    /// Power dissipated at the pivot (W).
+    pub power_dissipated: Vec<f64>,
+    /// Work done by the pivot since the start (J).
+    pub work_by_pivot: Vec<f64>,
+    /// Energy dissipated since the start (J).
+    pub dissipated: Vec<f64>,
+    /// energy + dissipated - work_by_pivot (J): constant.
+    pub balance: Vec<f64>,
+    /// Held by dry friction.
+    pub stuck: Vec<bool>,
+}
+
+impl DrivenTop {
+    /// The diagnostics of every row.
+    pub fn columns(&self, rows: &[DrivenRow]) -> DrivenColumns {
+        let n = rows.len();
+        let mut c = DrivenColumns::default();
+        c.theta.reserve(n);
+        let mut angles = Unwrapped::default();
+        let (m, g) = (self.top.m(), self.top.g());
+        for r in rows {
+            let s = r.state();
+            let (phi, theta, psi) = euler_from_quaternion(s.q);
+            let (phi, psi) = angles.next(phi, psi);
+            c.theta.push(theta);
+            c.phi.push(phi);
+            c.psi.push(psi);
+            let k = self.pivot.kin(r.t + self.t0);
+            let e = self.energy(r.t, &s);
+            c.energy.push(e);
+            c.potential
+                .push(m * g * (k.p[2] + dot(self.top.com(), s.q.up_in_body())));
+            c.mz.push(self.top.mz(&s));
+            c.pivot_position.push(k.p);
+            c.pivot_velocity.push(k.v);
+            let (force, pp, pd) = self.forces(r.t, &s, r.stuck);
+            c.reaction_force.push(force);
+            c.power_pivot.push(pp);
+            c.power_dissipated.push(pd);
+            c.work_by_pivot.push(r.y[7]);
+            c.dissipated.push(r.y[8]);
+            c.balance.push(e + r.y[8] - r.y[7]);
+            c.stuck.push(r.stuck);
+        }
+        c
+    }
+}
+
+/// The running summary of a driven top's run: the heavy top's summary, with
+/// `energy_drift` the drift of `E + D - W`, and Mz's and M3's drifts where they are kept.
+pub struct DrivenAcc<'a> {
+    top: &'a DrivenTop,
+    b0: f64,
+    mz0: f64,
+    m30: Option<f64>,
+    m_norm: f64,
+    e_scale: f64,
+    theta: f64,
+    th_min: f64,
+    th_max: f64,
+    db: f64,
+    dmz: f64,
+    dm3: f64,
+    mz_kept: bool,
+}
+
+impl<'a> DrivenAcc<'a> {
+    fn new(top: &'a DrivenTop, s0: &RigidState) -> Self {
+        let mom = top.top.momentum(s0.omega);
+        let undamped = top.hamiltonian();
+        // M3 is kept by an axial top (no torque about its axis from any force at G) and by a
+        // symmetric top on a vertically moving pivot, when undamped.
+        let m3 = top
+            .top
+            .m3(s0)
+            .filter(|_| undamped && (top.top.axial() || top.pivot.vertical()));
+        DrivenAcc {
+            top,
+            b0: top.energy(0.0, s0),
+            mz0: top.top.mz(s0),
+            m30: m3,
+            m_norm: norm(mom),
+            e_scale: top.energy_scale(s0),
+            theta: f64::NAN,
+            th_min: f64::INFINITY,
+            th_max: f64::NEG_INFINITY,
+            db: 0.0,
+            dmz: 0.0,
+            dm3: 0.0,
+            mz_kept: undamped && top.pivot.vertical(),
+        }
+    }
+}
+
+impl Accumulate<DrivenRow> for DrivenAcc<'_> {
+    type Summary = HeavySummary;
+
+    fn push(&mut self, _t: f64, r: &DrivenRow) {
+        let s = r.state();
+        self.theta = euler_from_quaternion(s.q).1;
+        self.th_min = self.th_min.min(self.theta);
+        self.th_max = self.th_max.max(self.theta);
+        let b = self.top.energy(r.t, &s) + r.y[8] - r.y[7];
+        self.db = self.db.max((b - self.b0).abs());
+        self.dmz = self.dmz.max((self.top.top.mz(&s) - self.mz0).abs());
+        if let Some(a) = self.m30 {
+            let m3 = self.top.top.inertia()[2] * s.omega[2];
+            self.dm3 = self.dm3.max((m3 - a).abs());
+        }
+    }
+
+    fn finish(self, info: &RunInfo) -> HeavySummary {
+        HeavySummary {
+            final_theta: self.theta,
+            theta_min: self.th_min,
+            theta_max: self.th_max,
+            energy_drift: relative(self.db, self.e_scale),
+            mz_drift: if self.mz_kept {
+                relative(self.dmz, self.m_norm)
+            } else {
+                f64::NAN
+            },
+            m3_drift: self
+                .m30
+                .map_or(f64::NAN, |_| relative(self.dm3, self.m_norm)),
+            kovalevskaya_drift: f64::NAN,
+            steps: info.stats.steps,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::rotation::quaternion_from_euler;
+
+    fn lagrange() -> HeavyTop {
+        HeavyTop::new(1.0, 1.0, 0.5, 1.0, [0.0, 0.0, 1.0], 1.0).unwrap()
+    }
+
+    fn run(top: &DrivenTop, s0: &RigidState, t_end: f64) -> Vec<DrivenRow> {
+        let st = Settings {
+            method: "dop853".into(),
+            t_end,
+            rtol: 1e-11,
+            atol: 1e-13,
+            ..Settings::default()
+        };
+        simulate::simulate(top, s0, &st, &mut [], &mut |_| true)
+            .unwrap()
+            .rows
+    }
+
+    #[test]
+    fn balance_holds_on_a_shaken_damped_top() {
+        let top = HeavyTop::new(1.0, 0.8, 0.5, 1.0, [0.1, 0.05, 0.6], 1.0).unwrap();
+        let pivot = Pivot::harmonic([0.03, -0.02, 0.05], 20.0, 0.3).unwrap();
+        let d = DrivenTop::new(top, pivot, Damping::new(0.01, 0.005, 0.0, 0.0).unwrap()).unwrap();
+        let s0 = RigidState::new(quaternion_from_euler(0.2, 0.7, 0.1).0, [0.5, -0.3, 3.0]).unwrap();
+        let rows = run(&d, &s0, 5.0);
+        let c = d.columns(&rows);
+        let b0 = c.balance[0];
+        let worst = c.balance.iter().map(|b| (b - b0).abs()).fold(0.0, f64::max);
+        assert!(worst < 1e-8, "balance drift {worst}");
+        assert!(c.dissipated.last().unwrap() > &0.0);
+        assert!(c.power_dissipated.iter().all(|&p| p >= 0.0));
+    }
+
+    #[test]
+    fn viscous_spin_decays_exponentially() {
+        let pivot = Pivot::harmonic([0.0, 0.02, 0.04], 15.0, 0.0).unwrap();
+        let d = DrivenTop::new(
+            lagrange(),
+            pivot,
+            Damping::new(0.02, 0.0, 0.0, 0.0).unwrap(),
+        )
+        .unwrap();
+        let s0 = RigidState::new(quaternion_from_euler(0.0, 0.4, 0.0).0, [0.1, 0.0, 8.0]).unwrap();
+        let rows = run(&d, &s0, 3.0);
+        for r in &rows {
+            let want = 8.0 * (-0.02 * r.t / 0.5f64).exp();
+            assert!((r.y[6] - want).abs() < 1e-9 * 8.0, "{} {}", r.y[6], want);
+        }
+    }
+
+    #[test]
+    fn dry_friction_holds_a_hanging_top_and_stops_a_swinging_one() {
+        // A pendulum-like top (com below the pivot) released at 0.3 rad: swings, stops.
+        let top = HeavyTop::new(1.0, 1.0, 0.5, 1.0, [0.0, 0.0, -0.8], 9.81).unwrap();
+        let damp = Damping::new(0.0, 0.0, 0.5, 0.1).unwrap();
+        let d = DrivenTop::new(top, Pivot::Fixed, damp).unwrap();
+        let s0 = RigidState::new(quaternion_from_euler(0.0, 0.3, 0.0).0, [0.0; 3]).unwrap();
+        let rows = run(&d, &s0, 20.0);
+        let c = d.columns(&rows);
+        assert!(*c.stuck.last().unwrap(), "the top never came to rest");
+        let b0 = c.balance[0];
+        let worst = c.balance.iter().map(|b| (b - b0).abs()).fold(0.0, f64::max);
+        assert!(worst < 1e-8, "balance drift {worst}");
+        // At rest within the friction circle: |c| sin(tilt from down) <= mu r_p.
+        let s = rows.last().unwrap().state();
+        assert!(d.stick_margin(rows.last().unwrap().t, s.q) <= 1e-12);
+        // Released inside the circle, it never moves.
+        let s1 = RigidState::new(quaternion_from_euler(0.0, 0.05, 0.0).0, [0.0; 3]).unwrap();
+        let rows = run(&d, &s1, 2.0);
+        assert!(rows.iter().all(|r| r.stuck && r.y[..7] == rows[0].y[..7]));
+    }
+
+    #[test]
+    fn painleve_joints_are_refused() {
+        let e = DrivenTop::new(
+            lagrange(),
+            Pivot::Fixed,
+            Damping::new(0.0, 0.0, 2.0, 1.0).unwrap(),
+        )
+        .unwrap_err();
+        assert!(e.to_string().starts_with("dry = 2"), "{e}");
+    }
+
+    #[test]
+    fn path_is_evaluated_with_its_derivatives() {
+        // One interval: p(t) = t^5 + 2 t^2 in x, 3 in z (coefficients highest first).
+        let mut coef = vec![0.0; 18];
+        coef[0] = 1.0; // t^5, x
+        coef[3 * 3] = 2.0; // t^2, x
+        coef[5 * 3 + 2] = 3.0; // t^0, z
+        let p = PathSpline::new(vec![0.0, 1.0], &coef).unwrap();
+        let k = p.kin(0.5);
+        assert!((k.p[0] - (0.5f64.powi(5) + 0.5)).abs() < 1e-15);
+        assert!((k.v[0] - (5.0 * 0.5f64.powi(4) + 2.0)).abs() < 1e-15);
+        assert!((k.a[0] - (20.0 * 0.5f64.powi(3) + 4.0)).abs() < 1e-15);
+        assert_eq!(k.p[2], 3.0);
+        let after = p.kin(2.0);
+        assert_eq!(after.v, [0.0; 3]);
+        assert!((after.p[0] - 3.0).abs() < 1e-15);
+        assert!(PathSpline::new(vec![0.0, 0.0], &coef).is_err());
+    }
+}

@@ -4,11 +4,13 @@
 - :class:`HeavyTop`: any rigid body on a pivot (Euler, Lagrange, Kovalevskaya, chaotic).
 - :class:`PlayTop`: a top with a spherical tip on a plane, with friction (tippe tops).
 - :func:`simulate`, :func:`simulate_many`: structure-preserving and adaptive integration.
+- :mod:`pivots`, :class:`PivotDamping`: a moving pivot and friction at it; :func:`poincare`:
+  stroboscopic sections.
 
 SI units and radians throughout; arrays are numpy arrays.
 """
 
-from . import bodies, events, shapes
+from . import bodies, events, pivots, shapes
 from ._atlas import Classification, Prediction, RegularPrecession, StationaryMotion
 from ._batch import BatchSummary, HeavyBatchSummary, simulate_many
 from ._core import __version__
@@ -16,10 +18,12 @@ from ._errors import KreiselError, NumericalError, ParameterError
 from ._heavy import HeavyTop, RigidState
 from ._lagrange import LagrangeTop
 from ._play import Coulomb, CoulombContensou, Frictionless, PlayState, PlayTop, Viscous
+from ._poincare import poincare
 from ._simulate import Event, EventRecord, MethodInfo, methods, simulate
 from ._state import EulerState, Invariants, NutationAnalysis
 from ._sweep import SweepSpec, open_sweep, sweep
 from ._trajectory import Trajectory
+from .pivots import PivotDamping
 
 __all__ = [
     "BatchSummary",
@@ -39,6 +43,7 @@ __all__ = [
     "NumericalError",
     "NutationAnalysis",
     "ParameterError",
+    "PivotDamping",
     "PlayState",
     "PlayTop",
     "Prediction",
@@ -52,6 +57,8 @@ __all__ = [
     "bodies",
     "events",
     "methods",
+    "pivots",
+    "poincare",
     "shapes",
     "simulate",
     "simulate_many",

@@ -122,7 +122,9 @@ def _natives(models, states):
             )
         natives.append(m._native_model())
         flat.append(to_native(s))
-    if len({type(n) for n in natives}) > 1:
+    heavy = (_core.HeavyTop, _core.DrivenTop)
+    kinds = {"heavy" if isinstance(n, heavy) else "play" for n in natives}
+    if len(kinds) > 1:
         raise ParameterError(
             "models mixes play tops and heavy tops, which is not allowed: one kind per batch"
         )
@@ -250,7 +252,7 @@ def _in_pieces(native, progress, tops, states, *args):
 def _heavy_runs(models, states):
     """(native tops, (q, omega) states) of a batch of heavy tops, broadcast and checked."""
     natives, flat = _natives(models, states)
-    if natives and not isinstance(natives[0], _core.HeavyTop):
+    if natives and not isinstance(natives[0], (_core.HeavyTop, _core.DrivenTop)):
         raise ParameterError(
             f"models contains {models!r}, which is not allowed: use HeavyTop or LagrangeTop"
         )

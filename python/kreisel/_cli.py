@@ -42,6 +42,41 @@ def _euler_options(f):
     ])  # fmt: skip
 
 
+def _drive_options(f):
+    """The flags of a moving or damped pivot ([pivot] and [damping] of a TOML file)."""
+    return _apply(f, [
+        _opt("--pivot-amplitude", "pivot_amplitude", "pivot shaken as amplitude * cos(omega t "
+             "+ phase): amplitude X Y Z (m)", nargs=3, type=float),
+        _opt("--pivot-omega", "pivot_omega", "angular frequency of the shaking (rad/s)",
+             type=float),
+        _opt("--pivot-phase", "pivot_phase", "phase of the shaking (rad) [0]", type=float),
+        _opt("--viscous", "viscous", "viscous torque at the pivot, -c omega: c (N m s)",
+             type=float),
+        _opt("--drag", "drag", "air-drag torque -k |omega| omega: k (N m s^2)", type=float),
+        _opt("--dry", "dry", "dry friction coefficient of the ball joint", type=float),
+        _opt("--pivot-radius", "pivot_radius", "radius of the ball joint (m)", type=float),
+    ])  # fmt: skip
+
+
+def _drive_tables(kw: dict) -> dict:
+    """The [pivot] and [damping] tables of the drive flags given."""
+    out: dict = {}
+    amp, omega, phase = (kw.pop(k) for k in ("pivot_amplitude", "pivot_omega", "pivot_phase"))
+    if amp is not None or omega is not None or phase is not None:
+        out["pivot"] = {"kind": "harmonic"}
+        if amp is not None:
+            out["pivot"]["amplitude"] = list(amp)
+        if omega is not None:
+            out["pivot"]["omega"] = omega
+        if phase is not None:
+            out["pivot"]["phase"] = phase
+    damping = {k: kw.pop(k) for k in ("viscous", "drag", "dry", "pivot_radius")}
+    damping = {k: v for k, v in damping.items() if v is not None}
+    if damping:
+        out["damping"] = damping
+    return out
+
+
 def _run_options(f):
     return _apply(f, [
         _opt("--preset", "preset", f"start from a built-in top: {known_presets()}", type=str),
@@ -124,13 +159,15 @@ def presets(as_toml):
 @_opt("--m", "m", "mass (kg), > 0", type=float)
 @_opt("--l", "l", "pivot to centre of mass along the axis (m)", type=float)
 @_opt("--g", "g", "gravitational acceleration (m/s^2) [9.81]", type=float)
+@_drive_options
 def lagrange(**kw):
-    """Symmetric top on a pivot: exact solution, analysis."""
+    """Symmetric top on a pivot: exact solution, analysis (integrated on a moving or damped
+    pivot)."""
     exact = kw.pop("exact")
     top = _take(kw, "I1", "I3", "m", "l", "g")
     sim = _take(kw, "t_end", "method", "rtol", "atol", "dt", "samples")
     sim["exact"] = True if exact else None
-    _go("lagrange", top, _take(kw, *_EULER), sim, kw)
+    _go("lagrange", top, _take(kw, *_EULER), sim, kw, _drive_tables(kw))
 
 
 @cli.command(context_settings=_CONTEXT)
@@ -149,15 +186,16 @@ def lagrange(**kw):
 @_opt("--com", "com", "centre of mass in the body frame from the pivot (m): X Y Z", nargs=3,
       type=float)  # fmt: skip
 @_opt("--g", "g", "gravitational acceleration (m/s^2) [9.81]", type=float)
+@_drive_options
 def heavy(**kw):
-    """Any rigid body on a pivot, integrated."""
+    """Any rigid body on a pivot, integrated; the pivot may move and be damped."""
     top = _take(kw, "I1", "I2", "I3", "m", "com", "g")
     state = _take(kw, *_EULER, "quaternion", "omega")
     for table, k in ((top, "com"), (state, "quaternion"), (state, "omega")):
         if table.get(k) is not None:
             table[k] = list(table[k])
     sim = _take(kw, "t_end", "method", "rtol", "atol", "dt", "samples")
-    _go("heavy", top, state, sim, kw)
+    _go("heavy", top, state, sim, kw, _drive_tables(kw))
 
 
 @cli.command(context_settings=_CONTEXT)
@@ -473,7 +511,7 @@ def _take(kw: dict, *names) -> dict:
     return {n: kw.pop(n) for n in names if n in kw}
 
 
-def _go(kind: str, top: dict, state: dict, sim: dict, kw: dict):
+def _go(kind: str, top: dict, state: dict, sim: dict, kw: dict, drive: dict | None = None):
     from ._config import from_tables, overlay, preset
 
     name = kw.pop("preset")
@@ -487,6 +525,8 @@ def _go(kind: str, top: dict, state: dict, sim: dict, kw: dict):
     else:
         base = {"top": {"kind": kind}, "state": {}, "simulation": {}}
     tables = overlay(base, {"top": top, "state": state, "simulation": sim})
+    for t, given in (drive or {}).items():
+        tables[t] = {**tables.get(t, {}), **given}
     problem = from_tables(tables)
     problem.preset = name
     out = kw.pop("out") or Path("kreisel-out") / (name or kind)
@@ -496,7 +536,8 @@ def _go(kind: str, top: dict, state: dict, sim: dict, kw: dict):
 def _execute(problem, out: Path, *, fmt, animation, frames, fps, no_figures):
     from ._run import run, work_units
 
-    units = work_units(problem.kind, not no_figures, animation, frames)
+    driven = getattr(problem.model, "driven", False)
+    units = work_units(problem.kind, not no_figures, animation, frames, driven)
     with click.progressbar(length=units, label=f"kreisel {problem.kind}", file=sys.stderr,
                            show_eta=False, item_show_func=lambda s: s) as bar:  # fmt: skip
 
@@ -515,7 +556,15 @@ def _report(problem, data: dict, out: Path):
     click.echo(f"  from {data['state']['repr']}")
     sim = data["simulation"]
     click.echo(f"  {sim['solver']} to t = {_num(sim['t_end'])} s: {res['samples']} samples")
-    if problem.kind == "lagrange":
+    if "pivot" in a:
+        fin = res["final"]
+        click.echo(
+            f"  pivot: {a['pivot']}; damping: {a['damping']}\n"
+            f"  theta at the end {_num(fin.get('theta'), '.5f')} rad; energy "
+            f"{_num(fin.get('energy'))} J; work by the pivot {_num(res.get('work_by_pivot'))} J;"
+            f" dissipated {_num(res.get('dissipated'))} J"
+        )
+    elif problem.kind == "lagrange":
         click.echo(
             f"  motion: {a['motion']}; theta in [{_num(a['theta_min'], '.5f')}, "
             f"{_num(a['theta_max'], '.5f')}] rad;"

@@ -33,7 +33,10 @@ STATE_FIELDS = {
     "play": (*_EULER, "vx", "vy", "height"),
 }
 SIMULATION_FIELDS = ("t_end", "method", "exact", "rtol", "atol", "dt", "samples")
-TABLES = ("top", "state", "simulation")
+TABLES = ("top", "pivot", "damping", "state", "simulation")
+# The tables of a top on a moving or damped pivot (heavy and Lagrange tops).
+DRIVE_TABLES = ("pivot", "damping")
+DAMPING_FIELDS = ("viscous", "drag", "dry", "pivot_radius")
 DEFAULT_T_END = {"lagrange": 2.0, "heavy": 2.0, "play": 5.0}
 # a command-line run records every step (with its diagnostics): about 110 bytes each
 MAX_RECORDED_STEPS = 2e7
@@ -56,7 +59,11 @@ def preset(name) -> dict:
     if not isinstance(name, str) or name not in PRESETS:
         raise ParameterError(f"preset = {name!r} is not known: known presets are {known_presets()}")
     p = PRESETS[name]
-    return {"top": dict(p.top), "state": dict(p.state), "simulation": dict(p.simulation)}
+    out = {"top": dict(p.top), "state": dict(p.state), "simulation": dict(p.simulation)}
+    for t in DRIVE_TABLES:
+        if getattr(p, t, None):
+            out[t] = dict(getattr(p, t))
+    return out
 
 
 @dataclass
@@ -169,7 +176,8 @@ def from_tables(tables: dict, *, prefix: str = "", source: str = "") -> Problem:
     for key in tables:
         if key not in TABLES:
             raise ParameterError(
-                f"{head}[{key}] is not a known table: allowed are [top], [state], [simulation]"
+                f"{head}[{key}] is not a known table: allowed are "
+                + ", ".join(f"[{t}]" for t in TABLES)
             )
     for name in TABLES:
         t = tables.get(name, {})
@@ -181,9 +189,13 @@ def from_tables(tables: dict, *, prefix: str = "", source: str = "") -> Problem:
     top = dict(tables.get("top", {}))
     state = dict(tables.get("state", {}))
     sim = dict(tables.get("simulation", {}))
+    drive = {t: dict(tables[t]) for t in DRIVE_TABLES if t in tables}
     chosen = top.pop("preset", None)
     if chosen is not None:
         base = preset(chosen)
+        for t in DRIVE_TABLES:
+            if t in base and t not in drive:
+                drive[t] = dict(base[t])
         if "kind" in top and top["kind"] != base["top"]["kind"]:
             raise ParameterError(
                 f"{where('top')}kind = {top['kind']!r} is not allowed with preset = {chosen!r}, "
@@ -211,11 +223,37 @@ def from_tables(tables: dict, *, prefix: str = "", source: str = "") -> Problem:
                 f"{', '.join(needed)} (g defaults to 9.81 m/s^2)"
                 + (" or, instead of s and rho, shape" if kind == "play" else "")
             )
-    model = _model(kind, top, where("top"))
+    if drive and kind == "play":
+        raise ParameterError(
+            f"{head}[{next(iter(drive))}] is not allowed for a play top: a moving or damped "
+            "pivot belongs to a heavy or lagrange top (a play top's friction is in [top])"
+        )
+    extra = _drive(drive, where)
+    model = _model(kind, {**top, **extra}, where("top"))
     st = _state(kind, model, state, where("state"))
     settings = _settings(kind, model, sim, where("simulation"))
-    tables_out = {"top": {"kind": kind, **top}, "state": state, "simulation": sim}
+    tables_out = {"top": {"kind": kind, **top}, **drive, "state": state, "simulation": sim}
     return Problem(kind, model, st, settings, tables_out, chosen)
+
+
+def _drive(drive: dict, where) -> dict:
+    """The pivot and damping keyword arguments of a top from its [pivot], [damping] tables."""
+    from .pivots import PivotDamping, pivot_from_dict
+
+    out = {}
+    if "pivot" in drive:
+        try:
+            out["pivot"] = pivot_from_dict(drive["pivot"])
+        except ParameterError as e:
+            raise ParameterError(f"{where('pivot')}{e}") from None
+    if "damping" in drive:
+        d = drive["damping"]
+        _check_fields(where("damping"), d, DAMPING_FIELDS, "of the damping")
+        try:
+            out["damping"] = PivotDamping(**d)
+        except ParameterError as e:
+            raise ParameterError(f"{where('damping')}{e}") from None
+    return out
 
 
 def _model(kind: str, top: dict, where: str):
@@ -336,11 +374,17 @@ def _settings(kind: str, model, sim: dict, where: str) -> Settings:
             raise ParameterError(
                 "exact = true is not allowed: only a lagrange top has an exact solution"
             )
+        driven = getattr(model, "driven", False)
+        if exact and driven:
+            raise ParameterError(
+                "exact = true is not allowed: a top on a moving or damped pivot has no exact "
+                "solution (it is simulated)"
+            )
         if exact and method is not None:
             raise ParameterError(
                 f"method = {method!r} is not allowed with exact = true: choose one of the two"
             )
-        if kind == "lagrange" and method is None:
+        if kind == "lagrange" and method is None and not driven:
             exact = True
         if method is None:
             method = "dop853"
@@ -395,6 +439,8 @@ def to_toml(tables: dict, comments=()) -> str:
     if lines:
         lines.append("")
     for table in TABLES:
+        if table in DRIVE_TABLES and table not in tables:
+            continue
         lines.append(f"[{table}]")
         lines += [f"{k} = {value(v)}" for k, v in tables.get(table, {}).items()]
         lines.append("")

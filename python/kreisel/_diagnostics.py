@@ -65,6 +65,11 @@ def conserved(traj):
                 0, ("jellett", "Jellett's J", np.asarray(traj.jellett), abs(traj.jellett[0]))
             )
         return out
+    if "balance" in cols:
+        # A moving or damped pivot: E + dissipated - work_by_pivot is the one constant.
+        b = np.asarray(traj.balance)
+        scale = float(np.abs(traj.energy).max() + np.abs(traj.work_by_pivot).max())
+        return [("balance", "E + dissipated - W", b, scale)]
     lag = lagrange_columns(traj)
     source = lag if lag is not None else {k: traj[k] for k, _ in _RIGID if k in cols}
     big_l = _angular_momentum(traj)

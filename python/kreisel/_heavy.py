@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Union
+from typing import TYPE_CHECKING, Any, Union
 
 import numpy as np
 
@@ -111,6 +111,29 @@ def rigid_state(state) -> RigidState:
     )
 
 
+def drive(heavy_native, pivot, damping):
+    """(pivot, damping, native driven top or None) of a top's ``pivot`` and ``damping``
+    arguments: a top given a pivot other than Fixed, or any damping, is a driven top."""
+    from .pivots import Fixed, PivotDamping, check_damping, check_pivot
+
+    p, d = check_pivot(pivot), check_damping(damping)
+    if isinstance(p, Fixed) and d is None:
+        return p, None, None
+    dd = d if d is not None else PivotDamping()
+    native = _core.DrivenTop(
+        heavy_native, *p._native_args(), dd.viscous, dd.drag, dd.dry, dd.pivot_radius
+    )
+    return p, d, native
+
+
+def drive_repr(pivot, damping) -> str:
+    """The ``, pivot=..., damping=...`` part of a top's repr (empty for a fixed, undamped one)."""
+    from .pivots import Fixed
+
+    out = "" if isinstance(pivot, Fixed) else f", pivot={pivot!r}"
+    return out + ("" if damping is None else f", damping={damping!r}")
+
+
 class _Rigid:
     """What every top on a pivot shares: states and invariants through the native top."""
 
@@ -119,6 +142,35 @@ class _Rigid:
     if TYPE_CHECKING:
 
         def _heavy_native(self) -> _core.HeavyTop: ...
+
+        _driven: _core.DrivenTop | None
+        _pivot: Any
+        _damping: Any
+
+    @property
+    def pivot(self):
+        """How the pivot moves (:mod:`kreisel.pivots`; ``Fixed()`` by default)."""
+        return self._pivot
+
+    @property
+    def damping(self):
+        """The torques at the pivot (:class:`kreisel.PivotDamping`), or None."""
+        return self._damping
+
+    @property
+    def driven(self) -> bool:
+        """Whether the pivot moves or is damped (then only simulation applies, no integrals)."""
+        return self._driven is not None
+
+    def _fixed_only(self, what: str) -> None:
+        """Refuses an exact or integral-based method for a driven or damped top."""
+        if self._driven is not None:
+            raise ParameterError(
+                f"{type(self).__name__}.{what} applies to the top on a fixed, undamped pivot; "
+                f"this one has{drive_repr(self._pivot, self._damping)[1:]}: its energy and "
+                "momenta are not integrals. Simulate it (kreisel.simulate: the column "
+                "'balance' = energy + dissipated - work_by_pivot is its constant)"
+            )
 
     def state(
         self,
@@ -157,7 +209,7 @@ class _Rigid:
         return RigidState(np.array(qq), np.array(ww))
 
     def _native_model(self):
-        return self._heavy_native()
+        return self._driven if self._driven is not None else self._heavy_native()
 
     def _native_state(self, state) -> list:
         """The flat numbers (q, omega) the core takes."""
@@ -176,6 +228,7 @@ class _Rigid:
         >>> {k: round(v, 6) for k, v in inv.items()}
         {'energy': 13.437185, 'Mz': 4.776682, 'M3': 5.0}
         """
+        self._fixed_only("invariants")
         s = rigid_state(state)
         out = dict(self._heavy_native().invariants(list(s.quaternion), list(s.omega)))
         for name, value in out.items():
@@ -216,7 +269,7 @@ class _Rigid:
         (0.24136, [0.5, 1.0, 1.5, 2.0])
         """
         s = rigid_state(state)
-        out = self._heavy_native().lyapunov(
+        out = self._native_model().lyapunov(
             list(s.quaternion),
             list(s.omega),
             real("t_end", t_end),
@@ -253,6 +306,16 @@ class HeavyTop(_Rigid):
         Centre of mass in the body frame, measured from the pivot (m).
     g : float
         Gravitational acceleration (m/s^2), >= 0.
+    pivot : kreisel.pivots.Fixed, Harmonic or Path, optional
+        How the pivot moves (default: at rest at the origin).
+    damping : kreisel.PivotDamping, optional
+        Viscous, air-drag and dry friction torques at the pivot.
+
+    A top with a moving pivot or damping is simulated like any other (:func:`simulate`,
+    :func:`simulate_many`, :meth:`lyapunov`, sweeps); its trajectories carry the pivot's
+    position, its force on the top and the power it puts in, the power dissipated, and
+    ``balance = energy + dissipated - work_by_pivot``, which is constant. Source: theory:
+    driven and damped tops.
 
     ``kind`` tells the integrable cases: ``"euler"`` (no torque), ``"lagrange"`` (I1 == I2,
     centre of mass on the 3-axis), ``"kovalevskaya"`` (I1 == I2 == 2 I3, centre of mass in the
@@ -269,16 +332,25 @@ class HeavyTop(_Rigid):
     {'energy': 38.437185, 'Mz': 14.330047}
     """
 
-    __slots__ = ("_I", "_m", "_com", "_g", "_native")
+    __slots__ = ("_I", "_m", "_com", "_g", "_native", "_pivot", "_damping", "_driven")
 
     def __init__(
-        self, I1: float, I2: float, I3: float, m: float, com: ArrayLike, g: float = 9.81
+        self,
+        I1: float,
+        I2: float,
+        I3: float,
+        m: float,
+        com: ArrayLike,
+        g: float = 9.81,
+        pivot=None,
+        damping=None,
     ) -> None:
         inertia = [real("I1", I1), real("I2", I2), real("I3", I3)]
         mass, grav = real("m", m), real("g", g)
         c = _vector("com", com, 3)
         self._native = _core.HeavyTop(inertia[0], inertia[1], inertia[2], mass, c, grav)
         self._I, self._m, self._com, self._g = tuple(inertia), mass, tuple(c), grav
+        self._pivot, self._damping, self._driven = drive(self._native, pivot, damping)
 
     def _heavy_native(self):
         return self._native
@@ -295,7 +367,8 @@ class HeavyTop(_Rigid):
         c = ", ".join(repr(x) for x in self._com)
         return (
             f"HeavyTop(I1={self._I[0]!r}, I2={self._I[1]!r}, I3={self._I[2]!r}, "
-            f"m={self._m!r}, com=[{c}], g={self._g!r})"
+            f"m={self._m!r}, com=[{c}], g={self._g!r}"
+            f"{drive_repr(self._pivot, self._damping)})"
         )
 
     def _repr_html_(self) -> str:
@@ -309,6 +382,9 @@ class HeavyTop(_Rigid):
             ("com", f"[{c}]", "m", "centre of mass, body frame, from the pivot"),
             ("g", self._g, "m/s²", "gravitational acceleration"),
         ]  # fmt: skip
+        if self._driven is not None:
+            rows.append(("pivot", repr(self._pivot), "", "how the pivot moves"))
+            rows.append(("damping", repr(self._damping), "", "torques at the pivot"))
         return table(f"Heavy top (kind: {self.kind})", repr(self), rows)
 
     def __eq__(self, other) -> bool:

@@ -8,7 +8,7 @@ import numpy as np
 
 from . import _core
 from ._errors import ParameterTypeError
-from ._heavy import _Rigid
+from ._heavy import _Rigid, drive, drive_repr
 from ._state import EulerState, Invariants, NutationAnalysis
 from ._trajectory import Deferred, Trajectory
 from ._validate import floats, real, times
@@ -34,6 +34,15 @@ class LagrangeTop(_Rigid):
         torque; negative puts the centre of mass below the pivot when theta = 0.
     g : float
         Gravitational acceleration (m/s^2), >= 0.
+    pivot : kreisel.pivots.Fixed, Harmonic or Path, optional
+        How the pivot moves (default: at rest at the origin).
+    damping : kreisel.PivotDamping, optional
+        Torques at the pivot.
+
+    The exact methods (invariants, effective potential, analysis, the elliptic-function
+    solution, steady precession, sleeping threshold) apply to the top on a fixed, undamped
+    pivot only; a top with a moving pivot or damping refuses them and is simulated
+    (theory: driven and damped tops).
 
     Euler angles are z-x-z with theta from the upward vertical, so V = m g l cos(theta).
     Source: Lagrange, *Mecanique analytique* (1788), and theory: Lagrange top.
@@ -56,14 +65,24 @@ class LagrangeTop(_Rigid):
     [0.5, 0.508321, 0.507606, 0.500063, 0.508969]
     """
 
-    __slots__ = ("_I1", "_I3", "_m", "_l", "_g", "_native")
+    __slots__ = ("_I1", "_I3", "_m", "_l", "_g", "_native", "_pivot", "_damping", "_driven")
 
-    def __init__(self, I1: float, I3: float, m: float, l: float, g: float = 9.81) -> None:  # noqa: E741
+    def __init__(
+        self,
+        I1: float,
+        I3: float,
+        m: float,
+        l: float,  # noqa: E741
+        g: float = 9.81,
+        pivot=None,
+        damping=None,
+    ) -> None:
         values = {k: real(k, v) for k, v in dict(I1=I1, I3=I3, m=m, l=l, g=g).items()}
         self._native = _core.LagrangeTop(
             values["I1"], values["I3"], values["m"], values["l"], values["g"]
         )
         self._I1, self._I3, self._m, self._l, self._g = values.values()
+        self._pivot, self._damping, self._driven = drive(self._heavy_native(), pivot, damping)
 
     I1 = property(lambda self: self._I1, doc="Transverse moment about the pivot (kg m^2).")
     I3 = property(lambda self: self._I3, doc="Axial moment (kg m^2).")
@@ -74,7 +93,7 @@ class LagrangeTop(_Rigid):
     def __repr__(self) -> str:
         return (
             f"LagrangeTop(I1={self._I1!r}, I3={self._I3!r}, m={self._m!r}, "
-            f"l={self._l!r}, g={self._g!r})"
+            f"l={self._l!r}, g={self._g!r}{drive_repr(self._pivot, self._damping)})"
         )
 
     def _repr_html_(self) -> str:
@@ -87,7 +106,12 @@ class LagrangeTop(_Rigid):
             ("l", self._l, "m", "pivot to centre of mass"),
             ("g", self._g, "m/s²", "gravitational acceleration"),
         ]
-        notes = [f"sleeping threshold: ω3 > {self.sleeping_threshold():.6g} rad/s"]
+        if self._driven is None:
+            notes = [f"sleeping threshold: ω3 > {self.sleeping_threshold():.6g} rad/s"]
+        else:
+            rows.append(("pivot", repr(self._pivot), "", "how the pivot moves"))
+            rows.append(("damping", repr(self._damping), "", "torques at the pivot"))
+            notes = ["a moving or damped pivot: simulate it (no integrals, no exact solution)"]
         return table("Lagrange top (heavy symmetric top on a pivot)", repr(self), rows, notes)
 
     def __eq__(self, other) -> bool:
@@ -120,6 +144,7 @@ class LagrangeTop(_Rigid):
         >>> round(inv.E, 6), round(inv.Mz, 6), round(inv.M3, 6)
         (56.680454, 0.658187, 0.75)
         """
+        self._fixed_only("invariants")
         return Invariants(*self._native.invariants(self._tuple(state)))
 
     def effective_potential(
@@ -140,6 +165,7 @@ class LagrangeTop(_Rigid):
         >>> [round(float(v), 6) for v in top.effective_potential([0.4, 0.5, 0.6], 0.658187, 0.75)]
         [56.982256, 56.680454, 56.847473]
         """
+        self._fixed_only("effective_potential")
         Mz, M3 = real("Mz", Mz), real("M3", M3)
         arr = floats("theta", theta)
         out = self._native.effective_potential(np.ascontiguousarray(arr.ravel()), Mz, M3)
@@ -160,6 +186,7 @@ class LagrangeTop(_Rigid):
         >>> a.kind, round(a.theta_min, 6), round(a.theta_max, 6), round(a.mean_precession_rate, 6)
         ('cusps', 0.5, 0.51076, 0.66034)
         """
+        self._fixed_only("analyse")
         d = self._native.analyse(self._tuple(state))
         d.pop("segments")
         return NutationAnalysis(**d)
@@ -175,6 +202,7 @@ class LagrangeTop(_Rigid):
         >>> round(lo, 6), round(hi, 6)
         (0.5, 0.51076)
         """
+        self._fixed_only("turning_points")
         a = self.analyse(state)
         return (a.theta_min, a.theta_max)
 
@@ -189,6 +217,7 @@ class LagrangeTop(_Rigid):
         >>> round(top.nutation_period(top.state(theta=0.5, psi_dot=150.0)), 6)
         0.106773
         """
+        self._fixed_only("nutation_period")
         return self.analyse(state).nutation_period
 
     def mean_precession_rate(self, state: EulerState) -> float:
@@ -201,6 +230,7 @@ class LagrangeTop(_Rigid):
         >>> round(top.mean_precession_rate(top.state(theta=0.5, psi_dot=150.0)), 6)
         0.66034
         """
+        self._fixed_only("mean_precession_rate")
         return self.analyse(state).mean_precession_rate
 
     def motion_kind(self, state: EulerState) -> str:
@@ -219,6 +249,7 @@ class LagrangeTop(_Rigid):
         >>> top.motion_kind(top.state(theta=0.5, phi_dot=2.0, psi_dot=150.0))
         'loops'
         """
+        self._fixed_only("motion_kind")
         return self.analyse(state).kind
 
     def exact(self, state: EulerState, t: ArrayLike, *, direct: bool = False) -> Trajectory:
@@ -245,6 +276,7 @@ class LagrangeTop(_Rigid):
         >>> traj.columns[:4]
         ['t', 'theta', 'phi', 'psi']
         """
+        self._fixed_only("exact")
         ts = times("t", t)
         cols = dict(
             zip(
@@ -274,6 +306,7 @@ class LagrangeTop(_Rigid):
         >>> [round(r, 6) for r in top.steady_precession(0.5, 150.0)]
         [0.660379, 67.709257]
         """
+        self._fixed_only("steady_precession")
         return tuple(self._native.steady_precession(real("theta0", theta0), real("omega3", omega3)))
 
     def nutation_frequency(self, theta0: float, omega3: float, rate: float) -> float:
@@ -290,6 +323,7 @@ class LagrangeTop(_Rigid):
         >>> round(top.nutation_frequency(0.5, 150.0, slow), 6)
         58.841778
         """
+        self._fixed_only("nutation_frequency")
         return self._native.nutation_frequency(
             real("theta0", theta0), real("omega3", omega3), real("rate", rate)
         )
@@ -305,4 +339,5 @@ class LagrangeTop(_Rigid):
         >>> round(top.sleeping_threshold(), 6)
         31.32092
         """
+        self._fixed_only("sleeping_threshold")
         return self._native.sleeping_threshold()

@@ -34,6 +34,12 @@ _TIPPED = {"m": 0.1, "A": 1.6e-5, "C": 2.0e-5, "s": 0.03, "g": 9.81, "friction":
            "mu": 0.05}  # fmt: skip
 
 
+# A 100 g rod 20 cm long, 1 cm thick, on a pivot at one end: I1 = m L^2/3, I3 = m r^2/2 (the
+# Kapitza top: inverted, it is stable on a vertically shaken pivot when (a omega)^2 >
+# 2 g I1 / (m l) = 2.6 m^2/s^2; theory: driven and damped tops).
+_ROD = {"I1": 0.1 * 0.2**2 / 3, "I3": 0.1 * 0.005**2 / 2, "m": 0.1, "l": 0.1, "g": 9.81}
+
+
 @dataclass(frozen=True)
 class Preset:
     """A built-in top: its name, one line of what it is, and its three tables."""
@@ -43,6 +49,8 @@ class Preset:
     top: dict
     state: dict
     simulation: dict = field(default_factory=dict)
+    pivot: dict = field(default_factory=dict)
+    damping: dict = field(default_factory=dict)
 
     @property
     def kind(self) -> str:
@@ -221,6 +229,24 @@ PRESETS = {
             {"theta": 1.5707963267948966, "psi_dot": 2000.0},
             # 0.2 s: a hundred nutations (1.9 ms each), sampled 20 times each
             {"t_end": 0.2, "method": "splitting4", "dt": 1e-5, "samples": 4001},
+        ),
+        Preset(
+            "damped-gyroscope",
+            "toy gyroscope with friction: the 600 rad/s rotor slows (I3/c = 5 s) and the "
+            "gyroscope falls",
+            {"kind": "lagrange", **_GYRO},
+            {"theta": 1.5707963267948966, "phi_dot": _GYRO_RATE, "psi_dot": 600.0},
+            {"t_end": 12.0, "method": "dop853", "rtol": 1e-9, "samples": 4001},
+            damping={"viscous": _GYRO["I3"] / 5.0, "drag": 2e-9},
+        ),
+        Preset(
+            "kapitza",
+            "Kapitza's top: a 20 cm rod without spin stands inverted on a pivot shaken 1 cm "
+            "up and down at 200 rad/s",
+            {"kind": "lagrange", **_ROD},
+            {"theta": 0.1},
+            {"t_end": 3.0, "method": "dop853", "rtol": 1e-9, "samples": 3001},
+            pivot={"kind": "harmonic", "amplitude": [0.0, 0.0, 0.01], "omega": 200.0},
         ),
         Preset(
             "blunt",

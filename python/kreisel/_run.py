@@ -70,7 +70,13 @@ def summary(problem: Problem, traj) -> dict:
         "state": {"repr": repr(state), **problem.tables["state"]},
         "simulation": problem.settings.as_dict(),
     }
-    if problem.kind == "lagrange":
+    if problem.kind in ("lagrange", "heavy") and model.driven:
+        out["analysis"] = {
+            "kind": getattr(model, "kind", "lagrange"),
+            "pivot": repr(model.pivot),
+            "damping": repr(model.damping),
+        }
+    elif problem.kind == "lagrange":
         a = model.analyse(state)
         inv = model.invariants(state)
         omega3 = state.psi_dot + state.phi_dot * math.cos(state.theta)
@@ -137,6 +143,10 @@ def summary(problem: Problem, traj) -> dict:
                 }
                 for i, name in enumerate(traj.part_names)
             }
+    if "balance" in traj.columns:
+        res["work_by_pivot"] = traj.work_by_pivot[-1]
+        res["dissipated"] = traj.dissipated[-1]
+        res["final"]["energy"] = traj.energy[-1]
     res["invariant_drift"] = {
         k: float(relative_drift(y, scale).max()) for k, _l, y, scale in conserved(traj)
     }
@@ -145,9 +155,9 @@ def summary(problem: Problem, traj) -> dict:
     return _clean(out)
 
 
-def figure_names(kind: str) -> list[str]:
+def figure_names(kind: str, driven: bool = False) -> list[str]:
     names = ["time_series", "axis_path", "invariant_drift"]
-    if kind == "lagrange":
+    if kind == "lagrange" and not driven:
         names.append("effective_potential")
     if kind == "play":
         names.append("contact_track")
@@ -254,7 +264,7 @@ def run(problem: Problem, out: Path, *, fmt="netcdf", figures=True, animation=No
     step(1, "drawing figures")
     if figures:
         files["figures"] = []
-        for name in figure_names(problem.kind):
+        for name in figure_names(problem.kind, getattr(problem.model, "driven", False)):
             p = out / f"{name}.png"
             write_figure(name, problem, traj, p)
             files["figures"].append(p.name)
@@ -271,5 +281,6 @@ def run(problem: Problem, out: Path, *, fmt="netcdf", figures=True, animation=No
     return data
 
 
-def work_units(kind: str, figures: bool, animation, frames: int) -> int:
-    return 2 + (len(figure_names(kind)) if figures else 0) + (frames if animation else 0)
+def work_units(kind: str, figures: bool, animation, frames: int, driven: bool = False) -> int:
+    n_fig = len(figure_names(kind, driven)) if figures else 0
+    return 2 + n_fig + (frames if animation else 0)

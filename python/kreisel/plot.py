@@ -275,7 +275,12 @@ def axis_path_phi_theta(
     from ._lagrange import LagrangeTop
     from ._state import EulerState
 
-    if turning_points and isinstance(model, LagrangeTop) and isinstance(state, EulerState):
+    if (
+        turning_points
+        and isinstance(model, LagrangeTop)
+        and not model.driven
+        and isinstance(state, EulerState)
+    ):
         for th in model.turning_points(state):
             ax.axhline(th, color="0.5", ls=":", lw=1)
     ax.invert_yaxis()
@@ -349,4 +354,38 @@ def contact_track(traj: Trajectory, ax: Axes | None = None, *, unit: str = "mm")
     ax.set_ylabel(f"y ({unit})")
     ax.grid(alpha=0.3)
     ax.legend(loc="best", fontsize=8)
+    return ax
+
+
+def poincare(
+    section: Trajectory,
+    ax: Axes | None = None,
+    *,
+    color: str = "C0",
+    label: str | None = None,
+    size: float = 2.0,
+) -> Axes:
+    """A Poincare section (from :func:`kreisel.poincare`) as points in the (theta, theta_dot)
+    plane: a regular motion lies on closed curves, a chaotic one fills an area.
+
+    Examples
+    --------
+    >>> import matplotlib
+    >>> matplotlib.use("Agg")
+    >>> from kreisel import LagrangeTop, pivots, poincare, plot
+    >>> top = LagrangeTop(I1=1.0, I3=0.5, m=1.0, l=1.0, g=1.0,
+    ...                   pivot=pivots.Harmonic([0.0, 0.0, 0.05], omega=20.0))
+    >>> ax = plot.poincare(poincare(top, top.state(theta=0.5, psi_dot=2.0), 20))
+    >>> ax.get_xlabel()
+    'theta (rad)'
+    """
+    plt = _pyplot()
+    if ax is None:
+        _, ax = plt.subplots(figsize=(5.0, 4.0))
+    theta_dot = euler_rates(section)[0]
+    ax.scatter(section.theta, theta_dot, s=size, color=color, label=label, linewidths=0)
+    ax.set_xlabel("theta (rad)")
+    ax.set_ylabel("theta_dot (rad/s)")
+    if label is not None:
+        ax.legend(loc="best", frameon=False)
     return ax

@@ -27,7 +27,7 @@ impl PyDrivenTop {
         pivot: &str,
         amplitude: [f64; 3],
         omega: f64,
-        phase: f64,
+        phase: [f64; 3],
         breaks: Vec<f64>,
         coef: Vec<f64>,
         viscous: f64,

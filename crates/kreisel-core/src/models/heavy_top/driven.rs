@@ -184,14 +184,15 @@ impl PathSpline {
 pub enum Pivot {
     /// At rest at the origin.
     Fixed,
-    /// `r_O(t) = amplitude cos(omega t + phase)`.
+    /// `r_O,i(t) = amplitude_i cos(omega t + phase_i)`: a straight stroke where the phases
+    /// agree, an ellipse where they differ.
     Harmonic {
         /// Amplitude vector (m, space frame).
         amplitude: [f64; 3],
         /// Angular frequency (rad/s).
         omega: f64,
-        /// Phase (rad).
-        phase: f64,
+        /// Phase of each component (rad).
+        phase: [f64; 3],
     },
     /// A sampled path.
     Path(Arc<PathSpline>),
@@ -199,7 +200,7 @@ pub enum Pivot {
 
 impl Pivot {
     /// A harmonic pivot, validated.
-    pub fn harmonic(amplitude: [f64; 3], omega: f64, phase: f64) -> Result<Pivot> {
+    pub fn harmonic(amplitude: [f64; 3], omega: f64, phase: [f64; 3]) -> Result<Pivot> {
         for (i, &a) in amplitude.iter().enumerate() {
             finite(&format!("amplitude[{i}]"), a)?;
         }
@@ -210,7 +211,9 @@ impl Pivot {
                 "it must be a finite angular frequency in [0, 1e9] rad/s",
             ));
         }
-        finite("phase", phase)?;
+        for (i, &p) in phase.iter().enumerate() {
+            finite(&format!("phase[{i}]"), p)?;
+        }
         Ok(Pivot::Harmonic {
             amplitude,
             omega,
@@ -228,13 +231,17 @@ impl Pivot {
                 omega,
                 phase,
             } => {
-                let (s, c) = (omega * t + phase).sin_cos();
                 let w2 = omega * omega;
-                PivotKin {
-                    p: amplitude.map(|a| a * c),
-                    v: amplitude.map(|a| -a * omega * s),
-                    a: amplitude.map(|a| -a * w2 * c),
+                let mut k = PivotKin::default();
+                for i in 0..3 {
+                    if amplitude[i] != 0.0 {
+                        let (s, c) = (omega * t + phase[i]).sin_cos();
+                        k.p[i] = amplitude[i] * c;
+                        k.v[i] = -amplitude[i] * omega * s;
+                        k.a[i] = -amplitude[i] * w2 * c;
+                    }
                 }
+                k
             }
             Pivot::Path(p) => p.kin(t),
         }
@@ -1229,7 +1236,7 @@ mod tests {
     #[test]
     fn balance_holds_on_a_shaken_damped_top() {
         let top = HeavyTop::new(1.0, 0.8, 0.5, 1.0, [0.1, 0.05, 0.6], 1.0).unwrap();
-        let pivot = Pivot::harmonic([0.03, -0.02, 0.05], 20.0, 0.3).unwrap();
+        let pivot = Pivot::harmonic([0.03, -0.02, 0.05], 20.0, [0.3, 1.2, 0.0]).unwrap();
         let d = DrivenTop::new(top, pivot, Damping::new(0.01, 0.005, 0.0, 0.0).unwrap()).unwrap();
         let s0 = RigidState::new(quaternion_from_euler(0.2, 0.7, 0.1).0, [0.5, -0.3, 3.0]).unwrap();
         let rows = run(&d, &s0, 5.0);
@@ -1243,7 +1250,7 @@ mod tests {
 
     #[test]
     fn viscous_spin_decays_exponentially() {
-        let pivot = Pivot::harmonic([0.0, 0.02, 0.04], 15.0, 0.0).unwrap();
+        let pivot = Pivot::harmonic([0.0, 0.02, 0.04], 15.0, [0.0; 3]).unwrap();
         let d = DrivenTop::new(
             lagrange(),
             pivot,

@@ -56,6 +56,38 @@ class HeavyTop:
         atol: float,
     ) -> dict[str, Any]: ...
 
+class DrivenTop:
+    """A heavy top on a moving pivot with damping at it (pivot "fixed", "harmonic" or
+    "path"; a path as scipy's PPoly breakpoints and coefficients, shape (6, n, 3))."""
+
+    def __new__(
+        cls,
+        top: HeavyTop,
+        pivot: str,
+        amplitude: Vector3,
+        omega: float,
+        phase: Vector3,
+        breaks: Sequence[float],
+        coef: Sequence[float],
+        viscous: float,
+        drag: float,
+        dry: float,
+        pivot_radius: float,
+    ) -> DrivenTop: ...
+    def invariants(self, q: Quaternion, omega: Vector3, t: float) -> dict[str, float]: ...
+    def stick_margin(self, q: Quaternion, t: float) -> float: ...
+    def lyapunov(
+        self,
+        q: Quaternion,
+        omega: Vector3,
+        t_end: float,
+        tau: float,
+        d0: float,
+        direction: Sequence[float],
+        rtol: float,
+        atol: float,
+    ) -> dict[str, Any]: ...
+
 class SymmetricTop:
     """The quantum symmetric top (I1, I3, hbar), its (K, M) blocks and EBK levels."""
 
@@ -152,7 +184,7 @@ class PlayStability:
 # one stack for every model: a native HeavyTop or PlayTop and a flat state, (q, omega) for a
 # heavy top, (q, omega, com, com_velocity) for a play top
 def simulate(
-    model: HeavyTop | PlayTop,
+    model: HeavyTop | DrivenTop | PlayTop,
     state: Sequence[float],
     t_end: float,
     method: str,
@@ -164,7 +196,7 @@ def simulate(
     reduced: bool = False,
 ) -> dict[str, Any]: ...
 def many(
-    models: Sequence[HeavyTop | PlayTop],
+    models: Sequence[HeavyTop | DrivenTop | PlayTop],
     states: Sequence[Sequence[float]],
     t_end: float,
     method: str,
@@ -190,7 +222,7 @@ def rotation_matrices(q: F64) -> NDArray[np.float64]: ...
 def quaternions_from_euler(phi: F64, theta: F64, psi: F64) -> F64: ...
 def check_event(event: EventTuple) -> None: ...
 def check_settings(
-    model: HeavyTop | PlayTop,
+    model: HeavyTop | DrivenTop | PlayTop,
     t_end: float,
     method: str,
     rtol: float,
@@ -200,7 +232,7 @@ def check_settings(
     reduced: bool = False,
 ) -> None: ...
 def lyapunov_many(
-    tops: Sequence[HeavyTop],
+    tops: Sequence[HeavyTop | DrivenTop],
     states: Sequence[tuple[Quaternion, Vector3]],
     t_end: float,
     tau: float,

@@ -16,6 +16,8 @@ from ._validate import real
 if TYPE_CHECKING:
     from numpy.typing import ArrayLike
 
+    from .pivots import Pivot, PivotDamping
+
     AnyRigidState = Union[EulerState, "RigidState"]
 
 
@@ -342,8 +344,8 @@ class HeavyTop(_Rigid):
         m: float,
         com: ArrayLike,
         g: float = 9.81,
-        pivot=None,
-        damping=None,
+        pivot: Pivot | None = None,
+        damping: PivotDamping | None = None,
     ) -> None:
         inertia = [real("I1", I1), real("I2", I2), real("I3", I3)]
         mass, grav = real("m", m), real("g", g)

@@ -16,6 +16,8 @@ from ._validate import floats, real, times
 if TYPE_CHECKING:
     from numpy.typing import ArrayLike, NDArray
 
+    from .pivots import Pivot, PivotDamping
+
 
 class LagrangeTop(_Rigid):
     """A heavy symmetric top on a fixed frictionless pivot, centre of mass on the figure axis.
@@ -74,8 +76,8 @@ class LagrangeTop(_Rigid):
         m: float,
         l: float,  # noqa: E741
         g: float = 9.81,
-        pivot=None,
-        damping=None,
+        pivot: Pivot | None = None,
+        damping: PivotDamping | None = None,
     ) -> None:
         values = {k: real(k, v) for k, v in dict(I1=I1, I3=I3, m=m, l=l, g=g).items()}
         self._native = _core.LagrangeTop(

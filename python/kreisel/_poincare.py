@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from ._errors import ParameterError
@@ -9,10 +11,13 @@ from ._simulate import Event, simulate
 from ._trajectory import Trajectory
 from ._validate import real
 
+if TYPE_CHECKING:
+    from ._simulate import Model, State
+
 
 def poincare(
-    top,
-    state,
+    top: Model,
+    state: State,
     n: int,
     *,
     period: float | None = None,

@@ -42,7 +42,7 @@ from ._validate import real
 if TYPE_CHECKING:
     from numpy.typing import ArrayLike
 
-__all__ = ["Fixed", "Harmonic", "Path", "PivotDamping", "pivot_from_dict"]
+__all__ = ["Fixed", "Harmonic", "Path", "Pivot", "PivotDamping", "pivot_from_dict"]
 
 
 def _vector3(name: str, value) -> tuple[float, float, float]:
@@ -408,7 +408,14 @@ class PivotDamping:
         return self.viscous > 0 or self.drag > 0 or self.dry * self.pivot_radius > 0
 
     def to_dict(self) -> dict[str, float]:
-        """The TOML table of this damping (``[damping]``)."""
+        """The TOML table of this damping (``[damping]``).
+
+        Examples
+        --------
+        >>> from kreisel import PivotDamping
+        >>> PivotDamping(drag=1e-6).to_dict()
+        {'viscous': 0.0, 'drag': 1e-06, 'dry': 0.0, 'pivot_radius': 0.0}
+        """
         return {
             "viscous": self.viscous,
             "drag": self.drag,
@@ -454,6 +461,10 @@ def pivot_from_dict(d: dict[str, Any]) -> _Pivot:
     if missing:
         raise ParameterError(f"{missing[0]} is missing: a path pivot needs it")
     return Path(d["t"], d["position"])
+
+
+# Any pivot (for annotations).
+Pivot = _Pivot
 
 
 def check_pivot(pivot) -> _Pivot:

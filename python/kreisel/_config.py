@@ -228,8 +228,8 @@ def from_tables(tables: dict, *, prefix: str = "", source: str = "") -> Problem:
             f"{head}[{next(iter(drive))}] is not allowed for a play top: a moving or damped "
             "pivot belongs to a heavy or lagrange top (a play top's friction is in [top])"
         )
-    extra = _drive(drive, where)
-    model = _model(kind, {**top, **extra}, where("top"))
+    _drive(drive, where)  # its messages name the [pivot] or [damping] table
+    model = _model(kind, {**top, **drive}, where("top"))
     st = _state(kind, model, state, where("state"))
     settings = _settings(kind, model, sim, where("simulation"))
     tables_out = {"top": {"kind": kind, **top}, **drive, "state": state, "simulation": sim}
@@ -262,10 +262,12 @@ def _model(kind: str, top: dict, where: str):
     from ._play import Coulomb, CoulombContensou, Frictionless, PlayTop, Viscous
 
     try:
-        if kind == "lagrange":
-            return LagrangeTop(**top)
-        if kind == "heavy":
-            return HeavyTop(**top)
+        if kind in ("lagrange", "heavy"):
+            # a sweep's tables carry [pivot] and [damping] inside [top]
+            top = dict(top)
+            drive = {t: top.pop(t) for t in DRIVE_TABLES if isinstance(top.get(t), dict)}
+            top.update(_drive(drive, lambda t: f"[{t}] "))
+            return LagrangeTop(**top) if kind == "lagrange" else HeavyTop(**top)
         p = dict(top)
         friction = p.pop("friction", "coulomb")
         mu = p.pop("mu", None)

@@ -29,7 +29,7 @@ def compute_chunk(spec: dict, values: dict, threads=None) -> dict:
     models, states, where, errors = [], [], [], {}
     # one top per combination of the swept top parameters
     cache = {}
-    of_top = [k for k in values if _where(kind, k)[0] == "top"]
+    of_top = [k for k in values if _where(kind, k)[0] != "state"]
     of_state = [k for k in values if k not in of_top]
     for i in range(n):
         key = tuple(float(values[k][i]) for k in of_top)

@@ -162,11 +162,17 @@ class SweepSpec:
         top = dict(tables.get("top", {}))
         state = dict(tables.get("state", {}))
         sim = dict(tables.get("simulation", {}))
+        drive = {t: dict(tables[t]) for t in _config.DRIVE_TABLES if t in tables}
         chosen = top.pop("preset", None)
         if chosen is not None:
             base = _config.preset(chosen)
             merged = _config.overlay(base, {"top": top, "state": state, "simulation": sim})
             top, state, sim = merged["top"], merged["state"], merged["simulation"]
+            if "samples" not in tables.get("simulation", {}):
+                sim.pop("samples", None)  # a preset's output samples: a sweep keeps summaries
+            for t in _config.DRIVE_TABLES:
+                if t in base and t not in drive:
+                    drive[t] = dict(base[t])
         kind = top.pop("kind", None)
         if kind not in _config.KINDS:
             raise ParameterError(
@@ -205,9 +211,23 @@ class SweepSpec:
                 f"{head}nothing is swept: give [grid] values or [random] samples of at least "
                 f"one of {', '.join(swept_names)}"
             )
+        if drive and kind == "play":
+            raise ParameterError(
+                f"{head}[{next(iter(drive))}] is not allowed for a play top: a moving or damped "
+                "pivot belongs to a heavy or lagrange top"
+            )
         swept = [*grid, *random]
         for name in swept:
             table, field = _where(kind, name)
+            if table in _config.DRIVE_TABLES:
+                given = drive.get(table, {})
+                if field in given and field != "amplitude":
+                    if field in tables.get(table, {}):
+                        raise ParameterError(
+                            f"{head}{name} is swept and also fixed in [{table}]: give it once"
+                        )
+                    del given[field]  # a preset's value gives way to the sweep
+                continue
             fixed = top if table == "top" else state
             if field in fixed and field != "com":
                 if chosen is None or field in tables.get(table, {}):
@@ -216,11 +236,18 @@ class SweepSpec:
                     )
                 del fixed[field]  # a preset's value gives way to the sweep
         # placeholders let the fixed tables be checked field by field now
+        top.update(drive)  # the pivot and damping tables travel inside [top]
         probe_top, probe_state = _compose(
             kind, top, state, {k: _first(grid, random, k) for k in swept}
         )
+        probe_drive = {t: probe_top.pop(t) for t in _config.DRIVE_TABLES if t in probe_top}
         settings = _config.from_tables(
-            {"top": {"kind": kind, **probe_top}, "state": probe_state, "simulation": sim},
+            {
+                "top": {"kind": kind, **probe_top},
+                **probe_drive,
+                "state": probe_state,
+                "simulation": sim,
+            },
             prefix="table",
             source=source,
         ).settings
@@ -302,7 +329,7 @@ class SweepSpec:
         values), so a bad value fails now, not in the middle of the sweep."""
         first = {k: _first(self.grid, self.random_values(), k) for k in self.swept}
         for name in self.swept:
-            if _where(self.kind, name)[0] != "top":
+            if _where(self.kind, name)[0] == "state":
                 continue
             values = self.grid.get(name)
             if values is None:
@@ -475,7 +502,9 @@ class SweepSpec:
 def _plain(d: dict) -> dict:
     out: dict[str, Any] = {}
     for k, v in d.items():
-        if isinstance(v, (list, tuple)) and v and all(isinstance(x, dict) for x in v):
+        if isinstance(v, dict):
+            out[k] = _plain(v)  # a [pivot] or [damping] table
+        elif isinstance(v, (list, tuple)) and v and all(isinstance(x, dict) for x in v):
             out[k] = [_plain(x) for x in v]  # a shape: its parts' tables
         elif isinstance(v, (np.ndarray, list, tuple)):
             out[k] = [float(x) for x in v]
@@ -486,26 +515,52 @@ def _plain(d: dict) -> dict:
     return out
 
 
+# Swept fields of a moving or damped pivot: name -> (table, field).
+_DRIVE_SWEPT = {
+    "pivot_omega": ("pivot", "omega"),
+    "pivot_phase": ("pivot", "phase"),
+    "pivot_amplitude_x": ("pivot", "amplitude"),
+    "pivot_amplitude_y": ("pivot", "amplitude"),
+    "pivot_amplitude_z": ("pivot", "amplitude"),
+    **{f: ("damping", f) for f in _config.DAMPING_FIELDS},
+}
+
+
 def _sweepable(kind: str) -> tuple:
     top = [f for f in _config.TOP_FIELDS[kind] if f not in ("friction", "com", "shape")]
     if kind == "heavy":
         top += ["com_x", "com_y", "com_z"]
-    return (*top, *_config._EULER, *(("vx", "vy", "height") if kind == "play" else ()))
+    drive = tuple(_DRIVE_SWEPT) if kind != "play" else ()
+    return (*top, *drive, *_config._EULER, *(("vx", "vy", "height") if kind == "play" else ()))
 
 
 def _where(kind: str, name: str) -> tuple:
-    """(table, field) of a swept name."""
+    """(table, field) of a swept name: [top], [state], or a pivot's [pivot] or [damping]."""
     if name.startswith("com_"):
         return "top", "com"
+    if kind != "play" and name in _DRIVE_SWEPT:
+        return _DRIVE_SWEPT[name]
     return ("top", name) if name in _config.TOP_FIELDS[kind] else ("state", name)
 
 
 def _compose(kind: str, top: dict, state: dict, values: dict) -> tuple:
-    """The [top] and [state] tables of one run: the fixed ones with its swept values."""
+    """The [top] and [state] tables of one run: the fixed ones with its swept values (a
+    swept pivot or damping field in the [pivot] or [damping] table carried in [top])."""
     t, s = dict(top), dict(state)
     for name, v in values.items():
         table, field = _where(kind, name)
-        if field == "com":
+        if table in _config.DRIVE_TABLES:
+            sub = dict(t.get(table, {}))
+            if field == "amplitude":
+                amp = list(sub.get("amplitude", (0.0, 0.0, 0.0)))
+                amp["xyz".index(name[-1])] = float(v)
+                sub["amplitude"] = amp
+            else:
+                sub[field] = float(v)
+            if table == "pivot":
+                sub.setdefault("kind", "harmonic")
+            t[table] = sub
+        elif field == "com":
             com = list(t.get("com", (0.0, 0.0, 0.0)))
             com["xyz".index(name[-1])] = float(v)
             t["com"] = com

@@ -285,13 +285,16 @@ class Path(_Pivot):
             )
         from scipy.interpolate import PPoly, make_interp_spline
 
-        ends = [(1, np.zeros(3)), (2, np.zeros(3))]
-        spline = make_interp_spline(ts, xs, k=5, bc_type=(ends, ends), axis=0)
-        pp = PPoly.from_spline(spline)
-        # Keep the breakpoints of the samples only (from_spline pads with repeated knots).
-        keep = (pp.x[:-1] >= ts[0]) & (pp.x[:-1] < ts[-1]) & (np.diff(pp.x) > 0)
-        c = pp.c[:, keep, :]
-        x = np.r_[pp.x[:-1][keep], ts[-1]]
+        ends = [(1, 0.0), (2, 0.0)]
+        cs = []
+        for d in range(3):  # PPoly.from_spline takes one coordinate at a time
+            spline = make_interp_spline(ts, xs[:, d], k=5, bc_type=(ends, ends))
+            pp = PPoly.from_spline(spline)
+            # keep the intervals between samples (from_spline pads with repeated knots)
+            keep = (pp.x[:-1] >= ts[0]) & (pp.x[:-1] < ts[-1]) & (np.diff(pp.x) > 0)
+            cs.append(pp.c[:, keep])
+            x = np.r_[pp.x[:-1][keep], ts[-1]]
+        c = np.stack(cs, axis=-1)
         self._t, self._x = ts, xs
         self._ppoly = PPoly(c, x, extrapolate=False)
         self._d1 = self._ppoly.derivative(1)

@@ -267,6 +267,18 @@ impl Pivot {
         }
     }
 
+    /// The first breakpoint of a sampled path after time t (where its higher derivatives
+    /// jump), if any.
+    pub fn next_break(&self, t: f64) -> Option<f64> {
+        match self {
+            Pivot::Path(p) => {
+                let i = p.breaks.partition_point(|&b| b <= t);
+                p.breaks.get(i).copied()
+            }
+            _ => None,
+        }
+    }
+
     /// Scales of the pivot's acceleration and speed.
     fn scales(&self) -> (f64, f64) {
         match self {
@@ -886,7 +898,13 @@ impl DrivenTop {
             }
             let mut obs = WithEvents::new(locator, &mut stream);
             let sys = Driven::<false> { top: self, stuck };
-            let result = integrator.integrate(&sys, t, y, t_end, &mut obs);
+            // A sampled path is a piecewise polynomial: its breakpoints end the integrator's
+            // segments, so that no step straddles a jump of its higher derivatives.
+            let seg_end = self
+                .pivot
+                .next_break(t + self.t0)
+                .map_or(t_end, |b| (b - self.t0).min(t_end));
+            let result = integrator.integrate(&sys, t, y, seg_end, &mut obs);
             let (t1, y1, st) = result.map_err(|e| integrate_error(e, t_end))?;
             stats += st;
             let mut switched = false;
@@ -910,11 +928,17 @@ impl DrivenTop {
                 break Status::Event;
             }
             if !switched {
-                break if t1 < t_end {
-                    Status::Interrupted
-                } else {
-                    Status::Completed
-                };
+                if t1 < seg_end {
+                    break Status::Interrupted;
+                }
+                if seg_end >= t_end {
+                    break Status::Completed;
+                }
+                // the next piece of the pivot's path, in the same phase
+                t = t1;
+                y = y1;
+                first = false;
+                continue;
             }
             t = t1;
             y = y1;

@@ -79,6 +79,13 @@ pub trait OdeSystem<const N: usize> {
     /// projection moves the state by no more than the local error. The initial
     /// state is not projected.
     fn project(&self, _y: &mut [f64; N]) {}
+
+    /// How many leading components the adaptive integrators' error norm controls (default:
+    /// all). The rest are quadratures carried along (a work, a dissipated energy), whose
+    /// accuracy follows from the controlled ones' steps; their tolerance scale (absolute, on
+    /// values that start at 0) would otherwise set the steps. SUNDIALS' CVODES keeps
+    /// quadratures out of its error test the same way unless asked.
+    const CONTROLLED: usize = N;
 }
 
 /// An [`OdeSystem`] given by a closure `|t, y, dy| ...` (no projection).

@@ -153,6 +153,28 @@ impl PathSpline {
         k
     }
 
+    /// The third derivative at time t (zero outside the samples).
+    pub fn jerk(&self, t: f64) -> [f64; 3] {
+        let m = self.coef.len();
+        if t <= self.breaks[0] || t >= self.breaks[m] {
+            return [0.0; 3];
+        }
+        let i = self
+            .breaks
+            .partition_point(|&b| b <= t)
+            .saturating_sub(1)
+            .min(m - 1);
+        let x = t - self.breaks[i];
+        let mut j = [0.0; 3];
+        for (d, jd) in j.iter_mut().enumerate() {
+            for (k, &ck) in self.coef[i][d].iter().enumerate().take(3) {
+                let n = (5 - k) as f64;
+                *jd = *jd * x + ck * n * (n - 1.0) * (n - 2.0);
+            }
+        }
+        j
+    }
+
     /// The pivot's motion at time t: the polynomial's inside, at rest outside.
     pub fn kin(&self, t: f64) -> PivotKin {
         let m = self.coef.len();
@@ -267,6 +289,28 @@ impl Pivot {
         }
     }
 
+    /// The pivot's jerk (m/s^3) at time t: the rate of change of its acceleration.
+    pub fn jerk(&self, t: f64) -> [f64; 3] {
+        match self {
+            Pivot::Fixed => [0.0; 3],
+            Pivot::Harmonic {
+                amplitude,
+                omega,
+                phase,
+            } => {
+                let w3 = omega * omega * omega;
+                let mut j = [0.0; 3];
+                for i in 0..3 {
+                    if amplitude[i] != 0.0 {
+                        j[i] = amplitude[i] * w3 * (omega * t + phase[i]).sin();
+                    }
+                }
+                j
+            }
+            Pivot::Path(p) => p.jerk(t),
+        }
+    }
+
     /// The first breakpoint of a sampled path after time t (where its higher derivatives
     /// jump), if any.
     pub fn next_break(&self, t: f64) -> Option<f64> {
@@ -334,6 +378,9 @@ pub struct DrivenTop {
     kdry: f64,
     /// The pivot's time at the run's t = 0 (a run continued from a later time).
     t0: f64,
+    /// The pivot moves along the vertical only: its motion seen in the body frame is along
+    /// Gamma (no rotation of the pivot's vectors into the body frame).
+    vertical: bool,
 }
 
 /// One output row of a driven top: time, `(q, omega, W, D)`, and whether it sticks.
@@ -391,12 +438,14 @@ impl DrivenTop {
                 ),
             ));
         }
+        let vertical = pivot.vertical();
         Ok(DrivenTop {
             top,
             pivot,
             damping,
             kdry,
             t0: 0.0,
+            vertical,
         })
     }
 
@@ -435,13 +484,26 @@ impl DrivenTop {
     #[inline(always)]
     fn effective_gravity(&self, q: Quat, k: &PivotKin) -> [f64; 3] {
         let gamma = q.up_in_body();
-        let a = q.rotate_inv(k.a);
         let g = self.top.g();
+        if self.vertical {
+            return gamma.map(|x| (g + k.a[2]) * x);
+        }
+        let a = q.rotate_inv(k.a);
         [
             g * gamma[0] + a[0],
             g * gamma[1] + a[1],
             g * gamma[2] + a[2],
         ]
+    }
+
+    /// The pivot's velocity in the body frame.
+    #[inline(always)]
+    fn velocity_in_body(&self, q: Quat, k: &PivotKin) -> [f64; 3] {
+        if self.vertical {
+            q.up_in_body().map(|x| k.v[2] * x)
+        } else {
+            q.rotate_inv(k.v)
+        }
     }
 
     /// The sticking margin `|geff x c| - mu_p r_p |geff|` (per unit mass): <= 0 where dry
@@ -457,7 +519,7 @@ impl DrivenTop {
         let k = self.pivot.kin(t + self.t0);
         let ge = self.effective_gravity(q, &k);
         let (m, c) = (self.top.m(), self.top.com());
-        let v_b = q.rotate_inv(k.v);
+        let v_b = self.velocity_in_body(q, &k);
         if stuck {
             let r = ge.map(|x| m * x);
             return Eval {
@@ -532,6 +594,16 @@ impl DrivenTop {
             + m * self.top.g() * (k.p[2] + dot(c, s.q.up_in_body()))
     }
 
+    /// The pivot frame's energy `H = T + m (g e_z + a_O(t)) . r_G` (J): the Hamiltonian of an
+    /// undamped top on a moving pivot, with explicit time.
+    pub fn pivot_frame_energy(&self, t: f64, s: &RigidState) -> f64 {
+        let k = self.pivot.kin(t + self.t0);
+        let iw = self.top.momentum(s.omega);
+        let r = s.q.rotate(self.top.com());
+        let m = self.top.m();
+        0.5 * dot(s.omega, iw) + m * (self.top.g() * r[2] + dot(k.a, r))
+    }
+
     /// The pivot's force on the body (space frame, N), the power it puts in and the power
     /// dissipated (W) at a state.
     pub fn forces(&self, t: f64, s: &RigidState, stuck: bool) -> ([f64; 3], f64, f64) {
@@ -567,12 +639,16 @@ impl DrivenTop {
 /// The driven top as a first-order system on `(q, omega, W, D)` (or `(q, M, W, D)` with
 /// `MOMENTUM`, the variables of the implicit Gauss methods), in one phase: turning, or
 /// held by dry friction (`stuck`: the orientation stays, only the pivot's work grows).
-pub struct Driven<'a, const MOMENTUM: bool> {
+pub struct Driven<'a, const MOMENTUM: bool, const STUCK: bool> {
     top: &'a DrivenTop,
-    stuck: bool,
 }
 
-impl<const MOMENTUM: bool> OdeSystem<DIM> for Driven<'_, MOMENTUM> {
+impl<const MOMENTUM: bool, const STUCK: bool> OdeSystem<DIM> for Driven<'_, MOMENTUM, STUCK> {
+    /// The motion's error controls the steps; W and D are quadratures along. A stuck top
+    /// has no motion of its own: the pivot's work, which the pivot's motion drives, sets
+    /// its steps (and so how finely the slip condition is watched).
+    const CONTROLLED: usize = if STUCK { DIM } else { 7 };
+
     #[inline(always)]
     fn rhs(&self, t: f64, y: &[f64; DIM], dy: &mut [f64; DIM]) {
         let q = Quat([y[0], y[1], y[2], y[3]]);
@@ -582,8 +658,8 @@ impl<const MOMENTUM: bool> OdeSystem<DIM> for Driven<'_, MOMENTUM> {
         } else {
             raw
         };
-        let e = self.top.eval(t, q, w, self.stuck);
-        if self.stuck {
+        let e = self.top.eval(t, q, w, STUCK);
+        if STUCK {
             dy[..7].fill(0.0);
         } else {
             dy[..4].copy_from_slice(&q.half_times_pure(w));
@@ -706,10 +782,7 @@ impl Model for DrivenTop {
         let t_end = settings.t_end;
         let out = match info.name {
             "rk4" => {
-                let sys = Driven::<false> {
-                    top: self,
-                    stuck: false,
-                };
+                let sys = Driven::<false, false> { top: self };
                 let sch = Rk4Scheme::<_, DIM> { sys: &sys };
                 let rec = |t: f64, y: &([f64; DIM], f64)| {
                     sink(
@@ -727,10 +800,7 @@ impl Model for DrivenTop {
                 )
             }
             "midpoint" | "gauss4" => {
-                let sys = Driven::<true> {
-                    top: self,
-                    stuck: false,
-                };
+                let sys = Driven::<true, false> { top: self };
                 let mut y0 = pack9(s0);
                 y0[4..7].copy_from_slice(&self.top.momentum(s0.omega));
                 let top = &self.top;
@@ -897,14 +967,19 @@ impl DrivenTop {
                 locator.add(spec, f.as_mut());
             }
             let mut obs = WithEvents::new(locator, &mut stream);
-            let sys = Driven::<false> { top: self, stuck };
             // A sampled path is a piecewise polynomial: its breakpoints end the integrator's
             // segments, so that no step straddles a jump of its higher derivatives.
             let seg_end = self
                 .pivot
                 .next_break(t + self.t0)
                 .map_or(t_end, |b| (b - self.t0).min(t_end));
-            let result = integrator.integrate(&sys, t, y, seg_end, &mut obs);
+            let result = if stuck {
+                let sys = Driven::<false, true> { top: self };
+                integrator.integrate(&sys, t, y, seg_end, &mut obs)
+            } else {
+                let sys = Driven::<false, false> { top: self };
+                integrator.integrate(&sys, t, y, seg_end, &mut obs)
+            };
             let (t1, y1, st) = result.map_err(|e| integrate_error(e, t_end))?;
             stats += st;
             let mut switched = false;
@@ -971,20 +1046,25 @@ impl DrivenTop {
     }
 }
 
-/// The splittings' state for a driven top: the splitting's own, the time, the pivot's work
-/// and the last power it put in (the work is summed by the trapezoidal rule over the steps).
+/// The splittings' state for a driven top: the splitting's own, the time t and its
+/// conjugate momentum p_t (extended phase space), and `E_lab - H` at the start.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SplitY {
     qm: SplitQM,
     t: f64,
-    work: f64,
-    power: f64,
+    pt: f64,
+    lag0: f64,
 }
 
 /// The splittings of [`Splitting`] on a moving pivot, undamped: in extended phase space the
-/// Hamiltonian `T(M) + m (g e_z + a_O(t)) . r_G + p_t` splits into the free rotation (which
-/// also advances the time) and a kick at frozen time, both exact, so every composition stays
-/// symplectic. Mz is restored after each step only where the pivot moves vertically.
+/// Hamiltonian `K = T(M) + V(q, t) + p_t`, `V = m (g e_z + a_O(t)) . r_G`, splits into the
+/// free rotation with `p_t` (which also advances the time) and the kick of V at frozen time
+/// (M takes the torque's impulse, `p_t` takes `-h dV/dt = -h m j_O(t) . r_G`, j the pivot's
+/// jerk), both exact, so every composition stays symplectic and keeps `H + p_t` to its
+/// order. The pivot's work follows from it: along the motion `dE/dt = R . v_O` and
+/// `d(H + p_t)/dt = 0`, so `W = (E - H)(t) - (E - H)(0) - (p_t(t) - p_t(0))`, and the drift of
+/// `E - W` is that of `H + p_t`: the method's own error, at its order. Mz is restored after
+/// each step only where the pivot moves vertically.
 pub struct DrivenSplitting<'a> {
     top: &'a DrivenTop,
     split: Splitting<'a>,
@@ -999,19 +1079,19 @@ impl<'a> DrivenSplitting<'a> {
     }
 
     fn encode(&self, s: &RigidState) -> SplitY {
-        let e = self.top.eval(0.0, s.q, s.omega, false);
         SplitY {
             qm: self.split.encode(s),
             t: 0.0,
-            work: 0.0,
-            power: e.power_pivot,
+            pt: 0.0,
+            lag0: self.top.energy(0.0, s) - self.top.pivot_frame_energy(0.0, s),
         }
     }
 
     fn decode(&self, t: f64, y: &SplitY) -> DrivenRow {
         let s = self.split.decode(&y.qm);
         let mut r = pack9(&s);
-        r[7] = y.work;
+        let lag = self.top.energy(t, &s) - self.top.pivot_frame_energy(t, &s);
+        r[7] = lag - y.lag0 - y.pt;
         DrivenRow {
             t,
             y: r,
@@ -1021,13 +1101,17 @@ impl<'a> DrivenSplitting<'a> {
 
     #[inline(always)]
     fn kick(&self, y: &mut SplitY, h: f64) {
-        let k = self.top.pivot.kin(y.t + self.top.t0);
+        let tt = y.t + self.top.t0;
+        let k = self.top.pivot.kin(tt);
         let ge = self.top.effective_gravity(y.qm.q, &k);
-        let tq = cross(ge, self.top.top.com());
+        let c = self.top.top.com();
+        let tq = cross(ge, c);
         let m = self.top.top.m();
         for (mi, ti) in y.qm.m.iter_mut().zip(tq) {
             *mi += h * m * ti;
         }
+        let jerk = self.top.pivot.jerk(tt);
+        y.pt -= h * m * dot(jerk, y.qm.q.rotate(c));
     }
 }
 
@@ -1048,10 +1132,6 @@ impl FixedScheme for DrivenSplitting<'_> {
         } else {
             y.qm.mz = dot(y.qm.m, y.qm.q.up_in_body());
         }
-        let s = self.split.decode(&y.qm);
-        let p = self.top.eval(y.t, s.q, s.omega, false).power_pivot;
-        y.work += 0.5 * h * (y.power + p);
-        y.power = p;
         if !(y.qm.m.iter().all(|x| x.is_finite()) && y.qm.q.0.iter().all(|x| x.is_finite())) {
             return Err(KreiselError::Numerical(format!(
                 "splitting: the state became non-finite at t = {}",
@@ -1335,6 +1415,7 @@ mod tests {
         assert!((k.v[0] - (5.0 * 0.5f64.powi(4) + 2.0)).abs() < 1e-15);
         assert!((k.a[0] - (20.0 * 0.5f64.powi(3) + 4.0)).abs() < 1e-15);
         assert_eq!(k.p[2], 3.0);
+        assert!((p.jerk(0.5)[0] - 60.0 * 0.25).abs() < 1e-14);
         let after = p.kin(2.0);
         assert_eq!(after.v, [0.0; 3]);
         assert!((after.p[0] - 3.0).abs() < 1e-15);

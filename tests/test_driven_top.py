@@ -328,10 +328,10 @@ def test_fixed_pivot_is_the_default_and_at_rest():
 
 
 def smoothstep(s):
-    """10 s^3 - 15 s^4 + 6 s^5: a quintic from 0 to 1 with zero velocity and acceleration at
-    both ends (so the quintic spline with those end conditions through its samples is
-    itself)."""
-    return s**3 * (10.0 - 15.0 * s + 6.0 * s * s)
+    """35 s^4 - 84 s^5 + 70 s^6 - 20 s^7: a septic from 0 to 1 with zero velocity,
+    acceleration and jerk at both ends (so the septic spline with those end conditions
+    through its samples is itself)."""
+    return s**4 * (35.0 - 84.0 * s + 70.0 * s * s - 20.0 * s**3)
 
 
 PATH_T = np.array([0.0, 0.15, 0.4, 0.5, 0.8, 1.0])
@@ -342,12 +342,12 @@ def path_of_smoothstep():
     return pivots.Path(PATH_T, smoothstep(PATH_T)[:, None] * PATH_DIR)
 
 
-def test_path_reproduces_a_quintic_with_its_end_conditions():
+def test_path_reproduces_a_septic_with_its_end_conditions():
     path = path_of_smoothstep()
     t = np.linspace(0.0, 1.0, 201)
     s = smoothstep(t)
-    v = 30.0 * t**2 * (1.0 - t) ** 2
-    a = 60.0 * t * (1.0 - t) * (1.0 - 2.0 * t)
+    v = 140.0 * t**3 * (1.0 - t) ** 3
+    a = 420.0 * t**2 * (1.0 - t) ** 2 * (1.0 - 2.0 * t)
     assert_allclose(path.position(t), s[:, None] * PATH_DIR, rtol=0, atol=1e-14)
     assert_allclose(path.velocity(t), v[:, None] * PATH_DIR, rtol=0, atol=1e-12)
     assert_allclose(path.acceleration(t), a[:, None] * PATH_DIR, rtol=0, atol=1e-10)

@@ -41,14 +41,19 @@ use crate::simulate::{
 /// The dimension of the integrated state `(q, omega, W, D)`.
 pub const DIM: usize = 9;
 
-/// A pivot path as a piecewise polynomial of degree 5 (C2, built by the caller, e.g. a
-/// quintic spline with zero velocity and acceleration at both ends), constant outside its
-/// breakpoints.
+/// The degree of a sampled path's pieces (the septic spline with zero velocity, acceleration
+/// and jerk at both ends).
+pub const PATH_DEGREE: usize = 7;
+const NCOEF: usize = PATH_DEGREE + 1;
+
+/// A pivot path as a piecewise polynomial of degree [`PATH_DEGREE`] (built by the caller,
+/// e.g. the septic spline with zero velocity, acceleration and jerk at both ends), constant
+/// outside its breakpoints.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PathSpline {
     breaks: Vec<f64>,
-    /// Per interval and coordinate: the coefficients of `(t - t_i)^5 .. (t - t_i)^0`.
-    coef: Vec<[[f64; 6]; 3]>,
+    /// Per interval and coordinate: the coefficients of `(t - t_i)^7 .. (t - t_i)^0`.
+    coef: Vec<[[f64; NCOEF]; 3]>,
     /// Largest |acceleration| at the breakpoints and interval midpoints (a scale).
     a_max: f64,
     /// Largest |velocity| likewise.
@@ -69,7 +74,7 @@ pub struct PivotKin {
 
 impl PathSpline {
     /// A path from its breakpoints (strictly increasing, at least 2) and coefficients laid
-    /// out as scipy's `PPoly.c` of a 3-vector path, shape (6, intervals, 3), in C order.
+    /// out as scipy's `PPoly.c` of a 3-vector path, shape (8, intervals, 3), in C order.
     pub fn new(breaks: Vec<f64>, coef: &[f64]) -> Result<Self> {
         if breaks.len() < 2 {
             return Err(KreiselError::invalid(
@@ -93,22 +98,25 @@ impl PathSpline {
             }
         }
         let m = breaks.len() - 1;
-        if coef.len() != 6 * m * 3 {
+        if coef.len() != NCOEF * m * 3 {
             return Err(KreiselError::invalid(
                 "position",
                 coef.len() as f64,
-                format!("a path of {m} intervals has 6 x {m} x 3 coefficients"),
+                format!("a path of {m} intervals has {NCOEF} x {m} x 3 coefficients"),
             ));
         }
-        let mut c = vec![[[0.0; 6]; 3]; m];
+        let mut c = vec![[[0.0; NCOEF]; 3]; m];
         for (k, &x) in coef.iter().enumerate() {
             finite("position", x)?;
             let (deg, rest) = (k / (3 * m), k % (3 * m));
             c[rest / 3][rest % 3][deg] = x;
         }
-        let vertical = c
-            .iter()
-            .all(|iv| iv[0][..5].iter().chain(&iv[1][..5]).all(|&x| x == 0.0));
+        let vertical = c.iter().all(|iv| {
+            iv[0][..PATH_DEGREE]
+                .iter()
+                .chain(&iv[1][..PATH_DEGREE])
+                .all(|&x| x == 0.0)
+        });
         let mut path = PathSpline {
             breaks,
             coef: c,
@@ -137,12 +145,12 @@ impl PathSpline {
             // Horner on c_j (t - t_i)^(5 - j) and its first two derivatives.
             let (mut p, mut v, mut a) = (0.0, 0.0, 0.0);
             for (j, &cj) in self.coef[i][d].iter().enumerate() {
-                let n = (5 - j) as f64;
+                let n = (PATH_DEGREE - j) as f64;
                 p = p * x + cj;
-                if j < 5 {
+                if j < PATH_DEGREE {
                     v = v * x + cj * n;
                 }
-                if j < 4 {
+                if j + 1 < PATH_DEGREE {
                     a = a * x + cj * n * (n - 1.0);
                 }
             }
@@ -156,19 +164,38 @@ impl PathSpline {
     /// The third derivative at time t (zero outside the samples).
     pub fn jerk(&self, t: f64) -> [f64; 3] {
         let m = self.coef.len();
-        if t <= self.breaks[0] || t >= self.breaks[m] {
+        // right-continuous: a run that starts where the path starts takes its first piece
+        if t < self.breaks[0] || t >= self.breaks[m] {
             return [0.0; 3];
         }
-        let i = self
-            .breaks
+        self.interval_jerk(self.interval(t), t)
+    }
+
+    /// The interval of t (clamped to the first and the last).
+    fn interval(&self, t: f64) -> usize {
+        self.breaks
             .partition_point(|&b| b <= t)
             .saturating_sub(1)
-            .min(m - 1);
+            .min(self.coef.len() - 1)
+    }
+
+    /// Motion and jerk at a time before the first sample continued smoothly from the first
+    /// piece (else as [`PathSpline::kin`], [`PathSpline::jerk`]): for the inner stages of a
+    /// composition method that step before a run's start, which is the path's start.
+    pub fn continued(&self, t: f64) -> (PivotKin, [f64; 3]) {
+        if t < self.breaks[0] {
+            (self.interval_kin(0, t), self.interval_jerk(0, t))
+        } else {
+            (self.kin(t), self.jerk(t))
+        }
+    }
+
+    fn interval_jerk(&self, i: usize, t: f64) -> [f64; 3] {
         let x = t - self.breaks[i];
         let mut j = [0.0; 3];
         for (d, jd) in j.iter_mut().enumerate() {
-            for (k, &ck) in self.coef[i][d].iter().enumerate().take(3) {
-                let n = (5 - k) as f64;
+            for (k, &ck) in self.coef[i][d].iter().enumerate().take(PATH_DEGREE - 2) {
+                let n = (PATH_DEGREE - k) as f64;
                 *jd = *jd * x + ck * n * (n - 1.0) * (n - 2.0);
             }
         }
@@ -675,7 +702,8 @@ impl<const MOMENTUM: bool, const STUCK: bool> OdeSystem<DIM> for Driven<'_, MOME
     }
 
     fn project(&self, y: &mut [f64; DIM]) {
-        if !MOMENTUM {
+        // a stuck top's orientation does not change, not even by a rounding
+        if !MOMENTUM && !STUCK {
             let n = (y[0] * y[0] + y[1] * y[1] + y[2] * y[2] + y[3] * y[3]).sqrt();
             for v in y.iter_mut().take(4) {
                 *v /= n;
@@ -1023,11 +1051,17 @@ impl DrivenTop {
                 Phase::Turning => {
                     let s = state_of(&y);
                     if self.stick_margin(t, s.q) <= 0.0 {
-                        // Held: the rest of the rotation's energy (of the order of w_rest^2)
-                        // is counted as dissipated, so E + D - W stays what it was.
-                        let before = self.energy(t, &s);
+                        // Held: the friction's impulse takes the rest of the rotation relative
+                        // to the pivot, its kinetic energy (1/2 w.I w, of the order of
+                        // w_rest^2) dissipated; the pivot's impulse, which stops the centre of
+                        // mass's motion relative to the pivot, m w x r_G, does the work
+                        // -m v_O . (w x r_G). E + D - W stays what it was.
+                        let k = self.pivot.kin(t + self.t0);
+                        let w = s.omega;
+                        let v_b = self.velocity_in_body(s.q, &k);
+                        y[8] += 0.5 * dot(w, self.top.momentum(w));
+                        y[7] -= self.top.m() * dot(v_b, cross(w, self.top.com()));
                         y[4..7].fill(0.0);
-                        y[8] += before - self.energy(t, &state_of(&y));
                         Phase::Stuck
                     } else {
                         Phase::Passing
@@ -1102,7 +1136,12 @@ impl<'a> DrivenSplitting<'a> {
     #[inline(always)]
     fn kick(&self, y: &mut SplitY, h: f64) {
         let tt = y.t + self.top.t0;
-        let k = self.top.pivot.kin(tt);
+        // A composition's inner stages may step before the run's start (Yoshida's negative
+        // weights): a path that starts there is continued smoothly, not held at rest.
+        let (k, jerk) = match &self.top.pivot {
+            Pivot::Path(p) => p.continued(tt),
+            other => (other.kin(tt), other.jerk(tt)),
+        };
         let ge = self.top.effective_gravity(y.qm.q, &k);
         let c = self.top.top.com();
         let tq = cross(ge, c);
@@ -1110,7 +1149,6 @@ impl<'a> DrivenSplitting<'a> {
         for (mi, ti) in y.qm.m.iter_mut().zip(tq) {
             *mi += h * m * ti;
         }
-        let jerk = self.top.pivot.jerk(tt);
         y.pt -= h * m * dot(jerk, y.qm.q.rotate(c));
     }
 }
@@ -1404,11 +1442,12 @@ mod tests {
 
     #[test]
     fn path_is_evaluated_with_its_derivatives() {
-        // One interval: p(t) = t^5 + 2 t^2 in x, 3 in z (coefficients highest first).
-        let mut coef = vec![0.0; 18];
-        coef[0] = 1.0; // t^5, x
-        coef[3 * 3] = 2.0; // t^2, x
-        coef[5 * 3 + 2] = 3.0; // t^0, z
+        // One interval: p(t) = t^5 + 2 t^2 in x, 3 in z (coefficients highest first, of
+        // t^7 .. t^0).
+        let mut coef = vec![0.0; 24];
+        coef[2 * 3] = 1.0; // t^5, x
+        coef[5 * 3] = 2.0; // t^2, x
+        coef[7 * 3 + 2] = 3.0; // t^0, z
         let p = PathSpline::new(vec![0.0, 1.0], &coef).unwrap();
         let k = p.kin(0.5);
         assert!((k.p[0] - (0.5f64.powi(5) + 0.5)).abs() < 1e-15);

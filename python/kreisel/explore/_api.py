@@ -29,6 +29,7 @@ from .._config import (
 from .._errors import ParameterError
 from .._presets import PRESETS
 from .._run import compute, write_trajectory
+from ._fields import field_info, part_fields
 from ._geometry import axis_tip, body_parts
 
 # The work one request may ask for (the page says so when a request asks for more).
@@ -109,6 +110,8 @@ def schema() -> dict:
             for k in KINDS
         },
         "frictions": list(FRICTIONS),
+        "info": field_info(),
+        "parts": part_fields(),
         "presets": presets,
         "default_t_end": DEFAULT_T_END,
         "limits": {

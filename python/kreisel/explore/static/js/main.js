@@ -90,6 +90,7 @@ function info(table, name) {
 function partRow(part) {
   const row = document.createElement('div');
   row.className = 'part';
+  row.dataset.namedKind = String('kind' in part); // a sphere written kind = "sphere" stays so
   const kind = document.createElement('select');
   kind.className = 'part-kind';
   for (const k of Object.keys(state.schema.parts)) kind.add(new Option(k, k));
@@ -138,7 +139,7 @@ function shapeEditor(shape) {
   add.id = 'add-part';
   add.textContent = 'add a part';
   add.title = 'a contact part: then leave s and rho empty';
-  add.addEventListener('click', () => list.appendChild(partRow({ kind: 'sphere' })));
+  add.addEventListener('click', () => list.appendChild(partRow({})));
   box.append(list, add);
   return box;
 }
@@ -147,7 +148,7 @@ function readShape(box) {
   const parts = [...box.querySelectorAll('.part')].map((row) => {
     const part = {};
     const kind = row.querySelector('.part-kind').value;
-    if (kind !== 'sphere') part.kind = kind;
+    if (kind !== 'sphere' || row.dataset.namedKind === 'true') part.kind = kind;
     row.querySelectorAll('input.part-value').forEach((i) => {
       const v = readInput(i);
       if (v !== undefined) part[i.dataset.key] = v;
@@ -469,7 +470,7 @@ async function exportFile(path, extra) {
 
 function fileStem() {
   const r = state.run;
-  return `kreisel-${(r && (r.preset || r.kind)) || 'top'}-t${state.t.toFixed(3)}s`;
+  return `kreisel-${$('preset').value || (r && r.kind) || 'top'}-t${state.t.toFixed(3)}s`;
 }
 
 function screenshot() {
@@ -572,7 +573,7 @@ async function firstRun() {
   }
   const asked = query.get('preset');
   if (asked !== null && !names.includes(asked)) {
-    $('notice').textContent = `preset = ${JSON.stringify(asked)} is not known: known presets are ${names.join(', ')}. `
+    $('notice').textContent = `preset = '${asked}' is not known: known presets are ${names.join(', ')}. `
       + 'Showing tippe.';
   }
   const known = names.includes(asked) ? asked : 'tippe';

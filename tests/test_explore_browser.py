@@ -407,7 +407,7 @@ def test_every_field_has_a_readable_label_a_unit_and_a_tooltip(page):
     )
     assert len(rows) == 14 + 9 + 7  # a play top's fields
     no_unit = {"friction", "method", "exact"}
-    for table, name, label, unit, tip in rows:
+    for _, name, label, unit, tip in rows:
         assert label != name or len(name) > 3, name  # words, not the bare symbol
         assert (unit == "") == (name in no_unit), name
         assert tip.startswith(f"{name}: ") and len(tip) > len(name) + 10, name
@@ -573,9 +573,9 @@ def test_a_link_reproduces_the_edited_run(browser, server, page):
     # the run of those tables is kreisel's
     problem = from_tables(edited["tables"])
     s = problem.settings
+    evs = [kreisel.events.inversion(0.9), kreisel.events.rest()]
     traj = kreisel.simulate(problem.model, problem.state, s.t_end, rtol=s.rtol, atol=s.atol,
-                            t_eval=np.linspace(0, s.t_end, 2001),
-                            events=[kreisel.events.inversion(0.9), kreisel.events.rest()])  # fmt: skip
+                            t_eval=np.linspace(0, s.t_end, 2001), events=evs)  # fmt: skip
     inversion = next(e.t for e in traj.events if e.name == "inversion")
     assert again["inversion_time"] == inversion
     open_page(browser, server.url + BALL)

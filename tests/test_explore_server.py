@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 
 import kreisel
-from kreisel._config import from_tables, preset
+from kreisel._config import from_tables, preset, read_toml
 from kreisel.explore import _api
 from kreisel.explore._geometry import axis_tip, body_parts
 
@@ -442,7 +442,7 @@ def test_a_run_whose_client_has_gone_stops_computing(server):
     time.sleep(1.5)
     busy = _tree_cpu_seconds(server.proc.pid)
     time.sleep(1.0)
-    assert _tree_cpu_seconds(server.proc.pid) - busy > 0.5  # it is computing
+    assert _tree_cpu_seconds(server.proc.pid) - busy > 0.3  # it is computing
     sock.close()
     time.sleep(1.0)  # the server notices within POLL s and ends the computation
     before = _tree_cpu_seconds(server.proc.pid)
@@ -504,8 +504,39 @@ def test_a_slow_body_does_not_hold_a_connection(server):
 
 
 def test_an_idle_connection_is_closed(server):
+    # closed with no answer: a browser may be about to send its request on it
     sock = socket.create_connection(("127.0.0.1", server.port), timeout=3 * CLOSED_WITHIN)
     start = time.monotonic()
     answer = sock.recv(4096)
     sock.close()
-    assert time.monotonic() - start < CLOSED_WITHIN and answer.startswith(b"HTTP/1.1 408")
+    assert time.monotonic() - start < CLOSED_WITHIN and answer == b""
+
+
+def test_a_kept_alive_connection_serves_request_after_request(server):
+    """The deadline is per request: a connection kept alive between requests (as a browser
+    keeps it) serves each of them, also after a pause."""
+    conn = http.client.HTTPConnection("127.0.0.1", server.port, timeout=30)
+    for pause in (0.0, 2.0, 2.0):
+        time.sleep(pause)
+        conn.request("GET", "/api/schema", headers={"Host": f"127.0.0.1:{server.port}"})
+        r = conn.getresponse()
+        assert r.status == 200 and json.loads(r.read())["kinds"]
+    conn.close()
+
+
+def test_a_toml_file_is_read_as_kreisel_run_reads_it(server, tmp_path):
+    text = '[top]\npreset = "tippe-ball"\nm = 0.021\n\n[state]\npsi_dot = 160.0\n'
+    status, answer = request(server, "POST", "/api/import/toml", {"toml": text, "name": "a.toml"})
+    path = tmp_path / "a.toml"
+    path.write_text(text)
+    assert status == 200 and answer["tables"] == from_tables(read_toml(path)).tables
+    # kreisel run's own messages, naming the file as the user named it
+    status, answer = request(
+        server,
+        "POST",
+        "/api/import/toml",
+        {"toml": "[top]\nkind = 'play'\nm = -1\n", "name": "/x/b.toml"},
+    )
+    assert status == 400 and answer["error"].startswith("b.toml: [top] ")
+    status, answer = request(server, "POST", "/api/import/toml", {"toml": 3})
+    assert status == 400 and answer["error"].startswith("the request must be a JSON object with")

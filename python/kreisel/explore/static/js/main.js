@@ -86,44 +86,61 @@ function info(table, name) {
   return (state.schema.info[table] || {})[name] || { label: name, unit: '', help: '' };
 }
 
-// The editor of a play top's shape: one row per part (kind, name and the kind's fields).
+// The editor of a play top's shape: one block per part, its kind, name and remove button, then
+// the kind's fields (m), each under its name.
 function partRow(part) {
   const row = document.createElement('div');
   row.className = 'part';
   row.dataset.namedKind = String('kind' in part); // a sphere written kind = "sphere" stays so
+  const head = document.createElement('div');
+  head.className = 'part-head';
   const kind = document.createElement('select');
   kind.className = 'part-kind';
   for (const k of Object.keys(state.schema.parts)) kind.add(new Option(k, k));
   kind.value = part.kind || 'sphere';
   kind.title = 'the kind of part: a sphere, a spheroid or a torus about the figure axis';
-  row.appendChild(kind);
+  const name = valueInput(part.name);
+  name.className = 'part-value';
+  name.dataset.key = 'name';
+  name.placeholder = 'name';
+  name.title = 'the part\'s name (events and contacts name it)';
+  name.setAttribute('aria-label', 'name of part');
+  const remove = document.createElement('button');
+  remove.type = 'button';
+  remove.className = 'remove';
+  remove.textContent = '×';
+  remove.title = 'remove this part';
+  remove.addEventListener('click', () => row.remove());
+  head.append(kind, name, remove);
+  const fields = document.createElement('div');
+  fields.className = 'part-fields';
+  const help = {
+    radius: 'radius of the sphere',
+    equatorial: 'semi-axis across the figure axis',
+    axial: 'semi-axis along the figure axis',
+    major: 'radius of the circle the ring\'s tube follows',
+    minor: 'radius of the ring\'s tube',
+    z: 'centre along the figure axis, from the centre of mass',
+  };
   const fill = () => {
-    row.querySelectorAll('.part-value, .remove').forEach((e) => e.remove());
-    const keys = ['name', ...state.schema.parts[kind.value]];
-    for (const key of keys) {
+    fields.innerHTML = '';
+    for (const key of state.schema.parts[kind.value]) {
+      const label = document.createElement('label');
+      label.textContent = `${key} (m)`;
       const input = valueInput(part[key]);
       input.className = 'part-value';
       input.dataset.key = key;
-      input.placeholder = key === 'name' ? 'name' : `${key} (m)`;
-      input.title = key === 'name' ? 'the part\'s name (events and contacts name it)'
-        : `${key} (m)${key === 'z' ? ': centre along the figure axis, from the centre of mass' : ''}`;
-      input.setAttribute('aria-label', `${key} of part`);
-      row.appendChild(input);
+      input.title = `${key}: ${help[key] || key} (m)`;
+      label.appendChild(input);
+      fields.appendChild(label);
     }
-    for (let k = keys.length; k < 4; k++) row.appendChild(Object.assign(document.createElement('span'), { className: 'part-value' }));
-    const remove = document.createElement('button');
-    remove.type = 'button';
-    remove.className = 'remove';
-    remove.textContent = '×';
-    remove.title = 'remove this part';
-    remove.addEventListener('click', () => row.remove());
-    row.appendChild(remove);
   };
   kind.addEventListener('change', () => {
-    row.querySelectorAll('input.part-value').forEach((i) => { part[i.dataset.key] = readInput(i); });
+    fields.querySelectorAll('input.part-value').forEach((i) => { part[i.dataset.key] = readInput(i); });
     fill();
   });
   fill();
+  row.append(head, fields);
   return row;
 }
 

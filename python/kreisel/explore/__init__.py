@@ -38,6 +38,9 @@ def serve(
 
     ``store`` is the folder whose sweep stores the page may open (none outside it);
     ``ready(url)`` is called once the server listens (the command line prints the address).
+    Each run computes in a process of its own (:mod:`kreisel.explore._jobs`, Python's
+    ``multiprocessing`` with a fork server): a script that calls ``serve`` runs it under
+    ``if __name__ == "__main__":``, as every script that starts processes does.
     """
     import uvicorn
 

@@ -72,18 +72,28 @@ async def compute(work, body, gone) -> object:
     ctx = context()
     receiver, sender = ctx.Pipe(duplex=False)
     proc = ctx.Process(target=_child, args=(sender, work, body), daemon=True)
+    loop = asyncio.get_running_loop()
+    ready = asyncio.Event()  # the answer (or the end of the process) can be read
+    watched = False
     try:
         await run_in_threadpool(proc.start)
         sender.close()
-        while not receiver.poll():
+        loop.add_reader(receiver.fileno(), ready.set)
+        watched = True
+        while not ready.is_set():
             if await gone():
                 raise Abandoned
-            await asyncio.sleep(POLL)
+            try:
+                await asyncio.wait_for(ready.wait(), POLL)
+            except asyncio.TimeoutError:
+                pass
         try:
             answer = await run_in_threadpool(receiver.recv)
         except EOFError:
             answer = ("crash", f"the computation ended with no answer (exit code {proc.exitcode})")
     finally:
+        if watched:
+            loop.remove_reader(receiver.fileno())
         if proc.pid is not None:
             proc.kill()
             await run_in_threadpool(proc.join)

@@ -427,7 +427,7 @@ def _tree_cpu_seconds(pid: int) -> float:
 
 def test_a_run_whose_client_has_gone_stops_computing(server):
     """A run of about 12 s of work (a heavy top spinning at 30000 rad/s, rtol 1e-13, 600 s)
-    is asked for and its client closes the connection after 1 s: the server's processes then
+    is asked for and its client closes the connection after 3 s: the server's processes then
     use (almost) no CPU time, where the run went on computing for its 12 s before."""
     tables = preset("kovalevskaya")
     tables["state"]["omega"] = [1.0, -2.0, 30000.0]
@@ -439,10 +439,10 @@ def test_a_run_whose_client_has_gone_stops_computing(server):
         f"Content-Type: application/json\r\nContent-Length: {len(body)}\r\n\r\n".encode()
         + body
     )
-    time.sleep(1.5)
-    busy = _tree_cpu_seconds(server.proc.pid)
     time.sleep(1.0)
-    assert _tree_cpu_seconds(server.proc.pid) - busy > 0.3  # it is computing
+    busy = _tree_cpu_seconds(server.proc.pid)
+    time.sleep(2.0)
+    assert _tree_cpu_seconds(server.proc.pid) - busy > 0.4  # it is computing
     sock.close()
     time.sleep(1.0)  # the server notices within POLL s and ends the computation
     before = _tree_cpu_seconds(server.proc.pid)

@@ -4,11 +4,12 @@ the unit, and a tooltip (from the docstrings of the classes the fields build).""
 from __future__ import annotations
 
 # (label, unit, tooltip); a unit "1" is a pure number, "" a field with no unit (text, a flag)
-_MOMENT_PIVOT = "about an axis through the pivot"
+_PIVOT = "through the pivot"
 TOP = {
-    "I1": ("moment I1", "kg m²", f"moment of inertia about e1, {_MOMENT_PIVOT}"),
-    "I2": ("moment I2", "kg m²", f"moment of inertia about e2, {_MOMENT_PIVOT}"),
-    "I3": ("moment I3", "kg m²", f"moment of inertia about the figure axis e3, {_MOMENT_PIVOT}"),
+    "I1": ("moment I1", "kg m²", f"principal moment of inertia about the body axis e1 {_PIVOT} "
+           "(a Lagrange top: about any axis across the figure axis)"),
+    "I2": ("moment I2", "kg m²", f"principal moment of inertia about the body axis e2 {_PIVOT}"),
+    "I3": ("moment I3", "kg m²", f"moment of inertia about the figure axis e3 {_PIVOT}"),
     "m": ("mass m", "kg", "mass of the top"),
     "l": ("pivot to G, l", "m", "distance from the pivot to the centre of mass G along e3 "
           "(negative: G below the pivot)"),

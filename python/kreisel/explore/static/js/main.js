@@ -305,7 +305,7 @@ async function run(tables) {
   $('top-repr').textContent = `${r.top}  ${r.state}`;
   $('inversion-time').textContent = r.kind === 'play'
     ? (r.inversion_time === null ? 'none' : `${fmt4(r.inversion_time)} s`) : 'n/a';
-  $('inversion-time').title = r.inversion_time === null ? '' : `${r.inversion_time} s`;
+  $('inversion-time').title = typeof r.inversion_time === 'number' ? `${r.inversion_time} s` : '';
   $('link').value = new URL(runLink(r.tables), window.location.href).href;
   $('events').textContent = eventsText(r.events);
   $('elapsed').textContent = `${(1000 * r.elapsed).toFixed(1)} ms`;

@@ -78,6 +78,16 @@ def seek(driver, t):
     )
 
 
+def assert_inversion_time(driver, expected: float):
+    """The page shows ``expected`` (s) rounded to 4 significant digits, and keeps it whole in
+    its tooltip and its run."""
+    rounded = repr(float(f"{expected:.4g}")).removesuffix(".0")
+    assert text(driver, "inversion-time") == f"{rounded} s"
+    title = driver.find_element(By.ID, "inversion-time").get_attribute("title")
+    assert title == f"{expected!r} s"
+    assert driver.execute_script("return window.explore.run.inversion_time") == expected
+
+
 def tab(driver, name):
     driver.find_element(By.CSS_SELECTOR, f"#tabs [data-tab={name}]").click()
 
@@ -105,8 +115,7 @@ def test_the_tippe_top_turns_over_at_the_inversion_time_of_kreisel_simulate(page
         events=[kreisel.events.inversion(0.9)],
     )
     expected = traj.events[0].t
-    shown = text(page, "inversion-time")
-    assert shown == f"{expected!r} s"
+    assert_inversion_time(page, expected)
     # the top on the page turns over: the figure axis from down (u near -1) to up
     # and so does the body drawn: its figure axis e3 = R(q) (0, 0, 1)
     e3z = (
@@ -177,9 +186,7 @@ def test_a_click_on_the_atlas_changes_the_top_and_runs_it(page):
     new = page.execute_script("return window.explore.run.atlas")
     assert (new["alpha"], new["gamma"]) != (old["alpha"], old["gamma"])
     # the top run is the form's: alpha = s / rho, gamma = A / C
-    values = {
-        k: float(field(page, "top", k).get_attribute("value")) for k in ("s", "rho", "A", "C")
-    }
+    values = page.execute_script("return window.explore.run.tables.top")
     assert new["alpha"] == pytest.approx(values["s"] / values["rho"], rel=1e-12)
     assert new["gamma"] == pytest.approx(values["A"] / values["C"], rel=1e-12)
     assert new["gamma"] > old["gamma"] and new["alpha"] > old["alpha"]
@@ -200,8 +207,7 @@ def test_a_sweep_cell_opens_its_run(page, store):
     ds = kreisel.open_sweep(str(store / "tippe.zarr"))
     assert float(field(page, "top", "s").get_attribute("value")) == ds["s"].values[-1]
     assert float(field(page, "top", "A").get_attribute("value")) == ds["A"].values[-1]
-    shown = text(page, "inversion-time")
-    assert shown == f"{float(ds['inversion_time'].values[-1, -1])!r} s"
+    assert_inversion_time(page, float(ds["inversion_time"].values[-1, -1]))
 
 
 def test_the_exported_toml_reproduces_the_run_with_kreisel_run(page, tmp_path):
@@ -247,7 +253,7 @@ def test_the_tippe_preset_with_its_peg_turns_over_onto_the_peg(browser, server):
                             t_eval=np.linspace(0.0, 8.0, 2001),
                             events=[kreisel.events.inversion(0.9)])  # fmt: skip
     inversion = next(e.t for e in traj.events if e.name == "inversion")
-    assert text(browser, "inversion-time") == f"{inversion!r} s"
+    assert_inversion_time(browser, inversion)
     seek(browser, 3.0)
     assert float(text(browser, "u-now")) > 0.99
     parts = browser.execute_script("return window.explore.run.body.parts.map((p) => p.name)")
@@ -281,3 +287,356 @@ def test_the_toy_top_preset_lives_its_life_to_rest(browser, server):
     parts = browser.execute_script("return window.explore.run.body.parts.map((p) => p.name)")
     assert {"tip", "shoulder", "handle"} <= set(parts)
     open_page(browser, server.url + BALL)  # as the other tests expect it
+
+
+# ------------------------------------------------------------------------------------------
+# the explorer as a viewer: framing, the form, the player's keys and buttons, files and links
+# ------------------------------------------------------------------------------------------
+
+
+def _saved_bytes(driver) -> tuple[str, bytes]:
+    """(name, content) of the last file the page saved (window.saved)."""
+    import base64
+
+    name, data = driver.execute_async_script(
+        "const done = arguments[0]; const s = window.saved;"
+        "const r = new FileReader(); r.onload = () => done([s.name, r.result.split(',')[1]]);"
+        "r.readAsDataURL(s.blob);"
+    )
+    return name, base64.b64decode(data)
+
+
+def _no_downloads(driver):
+    """The browser saves no file to disk (the page's window.saved keeps what it saved)."""
+    driver.execute_cdp_cmd("Browser.setDownloadBehavior", {"behavior": "deny"})
+
+
+@pytest.mark.parametrize("name", ["euler-disk", "coin"])
+def test_a_disk_and_a_coin_are_framed_by_their_size(browser, server, name):
+    """The whole disk fits in the view with room around it: the camera is at least as far as
+    the distance at which the disk's diameter fills the view's height, and at most 4 times."""
+    open_page(browser, server.url + f"?preset={name}")
+    shape = preset(name)["top"]["shape"]
+    radius = max(p.get("major", 0) + p.get("minor", 0) or p.get("radius", 0) for p in shape)
+    fov, distance = browser.execute_script(
+        "const v = window.explore.view;"
+        "return [v.camera.fov, v.camera.position.distanceTo(v.controls.target)];"
+    )
+    fits = radius / np.tan(np.radians(fov) / 2)  # the diameter fills the height at this distance
+    assert fits <= distance <= 4 * fits
+    open_page(browser, server.url + BALL)
+
+
+def test_the_egg_is_drawn_without_z_fighting(browser, server):
+    """The egg's outline and its spheroid were two coincident surfaces: the view showed the
+    outline's blue through the spheroid's red and yellow stripes. Now none of the body's pixels
+    is the outline's blue."""
+    import io
+
+    from PIL import Image
+
+    open_page(browser, server.url + "?preset=egg")
+    browser.find_element(By.ID, "traces").click()  # no trace over the body
+    seek(browser, 0.0)
+    png = browser.find_element(By.CSS_SELECTOR, "#view3d canvas").screenshot_as_png
+    rgb = np.asarray(Image.open(io.BytesIO(png)).convert("RGB")).astype(int)
+    r, g, b = rgb[..., 0], rgb[..., 1], rgb[..., 2]
+    stripes = ((r > g + 40) & (r > b + 40)).sum()  # the spheroid's red and yellow
+    blue = ((b > r + 80) & (b > g + 30)).sum()  # the outline's blue (#2e86c1)
+    assert stripes > 2000 and blue < 0.005 * stripes
+    open_page(browser, server.url + BALL)
+
+
+def test_the_peg_shows_when_the_tippe_top_stands_on_it(browser, server):
+    """At 3 s the tippe top stands inverted on its peg: from the default camera, rays to the
+    peg's points reach the peg first (the ball does not hide it)."""
+    open_page(browser, server.url + "?preset=tippe")
+    seek(browser, 3.0)
+    assert float(text(browser, "u-now")) > 0.99
+    seen = browser.execute_async_script(
+        "const done = arguments[0];"
+        "import('three').then((THREE) => {"
+        "  const v = window.explore.view; v.render();"
+        "  const peg = v.body.getObjectByName('peg'); peg.updateWorldMatrix(true, false);"
+        "  const pos = peg.geometry.attributes.position; const ray = new THREE.Raycaster();"
+        "  let hits = 0; const p = new THREE.Vector3();"
+        "  for (let k = 0; k < pos.count; k += 7) {"
+        "    p.fromBufferAttribute(pos, k).applyMatrix4(peg.matrixWorld);"
+        "    const dir = p.clone().sub(v.camera.position); const far = dir.length();"
+        "    ray.set(v.camera.position, dir.normalize()); ray.far = far * 1.0001;"
+        "    const first = ray.intersectObjects(v.body.children, false)[0];"
+        "    if (first && first.object === peg && first.distance > far * 0.9999) hits += 1;"
+        "  }"
+        "  done(hits);"
+        "});"
+    )
+    assert seen >= 3
+    open_page(browser, server.url + BALL)
+
+
+def test_an_unknown_preset_is_named_with_the_known_ones(browser, server):
+    open_page(browser, server.url + "?preset=nonsense")
+    with pytest.raises(kreisel.ParameterError) as e:
+        preset("nonsense")
+    assert text(browser, "notice").startswith(str(e.value))
+    open_page(browser, server.url + BALL)
+
+
+# the units of the fields, as the classes' docstrings give them
+UNITS = {
+    ("top", "m"): "kg",
+    ("top", "A"): "kg m²",
+    ("top", "C"): "kg m²",
+    ("top", "s"): "m",
+    ("top", "rho"): "m",
+    ("top", "g"): "m/s²",
+    ("top", "air_drag"): "N m s",
+    ("state", "theta"): "rad",
+    ("state", "psi_dot"): "rad/s",
+    ("state", "vx"): "m/s",
+    ("simulation", "t_end"): "s",
+    ("simulation", "dt"): "s",
+}
+
+
+def test_every_field_has_a_readable_label_a_unit_and_a_tooltip(page):
+    rows = page.execute_script(
+        "return [...document.querySelectorAll('#form .field')].map((r) => [r.dataset.table,"
+        " r.dataset.field, r.querySelector('label').textContent,"
+        " r.querySelector('.unit').textContent, r.title]);"
+    )
+    assert len(rows) == 14 + 9 + 7  # a play top's fields
+    no_unit = {"friction", "method", "exact"}
+    for _, name, label, unit, tip in rows:
+        assert label != name or len(name) > 3, name  # words, not the bare symbol
+        assert (unit == "") == (name in no_unit), name
+        assert tip.startswith(f"{name}: ") and len(tip) > len(name) + 10, name
+    units = {(t, n): u for t, n, _, u, _ in rows}
+    for key, unit in UNITS.items():
+        assert units[key] == unit, key
+
+
+def test_results_are_rounded_and_the_form_keeps_exact_values(browser, server):
+    """The toy top's inertia comes from its body (many digits): the form shows 6 significant
+    digits, runs the exact values, and the inversion time reads 4 significant digits."""
+    open_page(browser, server.url + "?preset=toy-top")
+    tables = from_tables(preset("toy-top")).tables
+    long = [k for k, v in tables["top"].items() if isinstance(v, float) and len(repr(v)) > 10]
+    assert long  # the preset has such numbers
+    for k in long:
+        shown = field(browser, "top", k).get_attribute("value")
+        assert float(shown) == pytest.approx(tables["top"][k], rel=1e-6)
+        digits = shown.split("e")[0].replace("-", "").replace(".", "").lstrip("0")
+        assert len(digits) <= 6, (k, shown)
+    before = runs(browser)
+    browser.find_element(By.ID, "run").click()
+    wait_for(browser, f"return Number(document.getElementById('run-count').textContent) > {before}")
+    assert browser.execute_script("return window.explore.run.tables.top") == tables["top"]
+    open_page(browser, server.url + BALL)
+    t = browser.execute_script("return window.explore.run.inversion_time")
+    assert len(repr(t)) > 8  # a time of many digits...
+    assert text(browser, "inversion-time") == f"{t:.4g} s"  # ...shown with 4
+
+
+def test_the_shape_is_edited_part_by_part(browser, server):
+    open_page(browser, server.url + "?preset=tippe")
+    shape = preset("tippe")["top"]["shape"]
+    rows = browser.find_elements(By.CSS_SELECTOR, "#f-top-shape .part")
+    assert len(rows) == len(shape) == 2
+    for row, part in zip(rows, shape):
+        values = {
+            i.get_attribute("data-key"): i.get_attribute("value")
+            for i in row.find_elements(By.CSS_SELECTOR, "input.part-value")
+        }
+        assert values["name"] == part["name"]
+        assert float(values["radius"]) == part["radius"] and float(values["z"]) == part["z"]
+    peg = rows[1].find_element(By.CSS_SELECTOR, "input[data-key=radius]")
+    peg.clear()
+    peg.send_keys("0.004")
+    # a third part, a torus: its fields are a torus's
+    browser.find_element(By.ID, "add-part").click()
+    new = browser.find_elements(By.CSS_SELECTOR, "#f-top-shape .part")[-1]
+    Select(new.find_element(By.CSS_SELECTOR, ".part-kind")).select_by_value("torus")
+    keys = [i.get_attribute("data-key") for i in new.find_elements(By.CSS_SELECTOR, "input")]
+    assert keys == ["name", "major", "minor", "z"]
+    new.find_element(By.CSS_SELECTOR, ".remove").click()
+    before = runs(browser)
+    browser.find_element(By.ID, "run").click()
+    wait_for(browser, f"return Number(document.getElementById('run-count').textContent) > {before}")
+    edited = [dict(shape[0]), {**shape[1], "radius": 0.004}]
+    assert browser.execute_script("return window.explore.run.tables.top.shape") == edited
+    open_page(browser, server.url + BALL)
+
+
+def test_the_3d_view_has_a_legend_of_its_traces(browser, server, page):
+    colours = page.execute_script(
+        "const v = window.explore.view;"
+        "const swatch = (n) => getComputedStyle(document.querySelector("
+        "  `#legend [data-trace=${n}] .swatch`)).borderTopColor;"
+        "return [swatch('tip'), swatch('contact'), '#' + v.tipLine.material.color.getHexString(),"
+        " '#' + v.contactLine.material.color.getHexString()];"
+    )
+
+    def rgb(h):
+        return f"rgb({int(h[1:3], 16)}, {int(h[3:5], 16)}, {int(h[5:7], 16)})"
+
+    assert colours[0] == rgb(colours[2]) and colours[1] == rgb(colours[3])
+    assert page.find_element(By.ID, "legend").is_displayed()
+    open_page(browser, server.url + "?preset=gyroscope")  # a top on a pivot: no contact point
+    contact = browser.find_element(By.CSS_SELECTOR, "#legend [data-trace=contact]")
+    assert not contact.is_displayed()
+    open_page(browser, server.url + BALL)
+
+
+def test_the_sweep_map_reads_out_the_cell_under_the_mouse(page, store):
+    tab(page, "sweeps")
+    Select(page.find_element(By.ID, "store")).select_by_value("tippe.zarr")
+    wait_for(page, "return document.getElementById('sweep-var').value === 'inversion_time'")
+    canvas = page.find_element(By.ID, "sweep-map")
+    size = canvas.size
+    ActionChains(page).move_to_element_with_offset(
+        canvas, size["width"] // 2 - 130, -size["height"] // 2 + 60
+    ).perform()
+    readout = wait_for(page, "return document.getElementById('sweep-readout').textContent")
+    ds = kreisel.open_sweep(str(store / "tippe.zarr"))
+    import re
+
+    m = re.fullmatch(r"s = (\S+), A = (\S+): inversion_time = (\S+)( s)?", readout)
+    assert m, readout
+    assert float(m[1]) == pytest.approx(ds["s"].values[-1], rel=1e-3)
+    assert float(m[2]) == pytest.approx(ds["A"].values[-1], rel=1e-3)
+    assert float(m[3]) == pytest.approx(float(ds["inversion_time"].values[-1, -1]), rel=1e-3)
+
+
+def test_the_arrow_keys_and_buttons_step_one_sample_and_space_plays(page):
+    seek(page, 1.0)
+    t = page.execute_script("return window.explore.run.t")
+    i = int(np.searchsorted(t, 1.0, side="right")) - 1  # the sample at or before 1 s
+    body = page.find_element(By.TAG_NAME, "body")
+    now = "return window.explore.t"
+    body.send_keys("\ue014")  # right arrow
+    assert page.execute_script(now) == t[i + 1]
+    body.send_keys("\ue014")
+    assert page.execute_script(now) == t[i + 2]
+    body.send_keys("\ue012")  # left arrow
+    assert page.execute_script(now) == t[i + 1]
+    page.find_element(By.ID, "step-back").click()
+    assert page.execute_script(now) == t[i]
+    page.find_element(By.ID, "step-forward").click()
+    assert page.execute_script(now) == t[i + 1]
+    assert float(text(page, "clock").split()[2]) == pytest.approx(t[i + 1], abs=5e-4)
+    assert not page.execute_script("return window.explore.playing")
+    body.send_keys(" ")
+    assert page.execute_script("return window.explore.playing")
+    assert text(page, "play") == "Pause"
+    body.send_keys(" ")
+    assert not page.execute_script("return window.explore.playing")
+
+
+def test_the_camera_resets_and_looks_from_the_side_and_the_top(page):
+    seek(page, 0.0)
+    where = (
+        "const v = window.explore.view;"
+        "return [v.camera.position.toArray(), v.controls.target.toArray()];"
+    )
+    home = page.execute_script(where)
+    page.find_element(By.ID, "view-top").click()
+    eye, target = (np.array(x) for x in page.execute_script(where))
+    d = eye - target
+    assert d[2] / np.linalg.norm(d) > np.cos(np.radians(0.1))  # straight down
+    page.find_element(By.ID, "view-side").click()
+    eye, target = (np.array(x) for x in page.execute_script(where))
+    assert abs(eye[2] - target[2]) < 1e-9 * np.linalg.norm(eye - target) + 1e-12  # level
+    canvas = page.find_element(By.CSS_SELECTOR, "#view3d canvas")
+    ActionChains(page).move_to_element(canvas).click_and_hold().move_by_offset(
+        80, 40
+    ).release().perform()
+    page.find_element(By.ID, "view-reset").click()
+    eye, target = page.execute_script(where)
+    assert eye == pytest.approx(home[0], rel=1e-9) and target == pytest.approx(home[1])
+
+
+def test_a_link_reproduces_the_edited_run(browser, server, page):
+    psi = field(page, "state", "psi_dot")
+    psi.clear()
+    psi.send_keys("170")
+    before = runs(page)
+    page.find_element(By.ID, "run").click()
+    wait_for(page, f"return Number(document.getElementById('run-count').textContent) > {before}")
+    edited = page.execute_script("return window.explore.run")
+    page.find_element(By.ID, "copy-link").click()
+    link = page.find_element(By.ID, "link").get_attribute("value")
+    assert link.startswith(server.url + "?run=")
+    open_page(browser, link)
+    again = browser.execute_script("return window.explore.run")
+    assert again["tables"] == edited["tables"] and again["tables"]["state"]["psi_dot"] == 170
+    # the run of those tables is kreisel's
+    problem = from_tables(edited["tables"])
+    s = problem.settings
+    evs = [kreisel.events.inversion(0.9), kreisel.events.rest()]
+    traj = kreisel.simulate(problem.model, problem.state, s.t_end, rtol=s.rtol, atol=s.atol,
+                            t_eval=np.linspace(0, s.t_end, 2001), events=evs)  # fmt: skip
+    inversion = next(e.t for e in traj.events if e.name == "inversion")
+    assert again["inversion_time"] == inversion
+    open_page(browser, server.url + BALL)
+
+
+def test_a_toml_file_is_loaded_and_run(page, tmp_path):
+    path = tmp_path / "fast.toml"
+    path.write_text(
+        '[top]\npreset = "tippe-ball"\nm = 0.021\n\n[state]\npsi_dot = 160.0\n\n'
+        "[simulation]\nt_end = 6.0\nsamples = 1201\n"
+    )
+    before = runs(page)
+    page.find_element(By.ID, "load-toml").send_keys(str(path))
+    wait_for(page, f"return Number(document.getElementById('run-count').textContent) > {before}")
+    import tomllib
+
+    problem = from_tables(tomllib.loads(path.read_text()))
+    run = page.execute_script("return window.explore.run")
+    assert run["tables"] == problem.tables
+    assert len(run["t"]) == 1201 and run["t"][-1] == 6.0
+    assert text(page, "preset-summary") == "from fast.toml"
+    # a file kreisel run refuses is refused with kreisel run's message
+    bad = tmp_path / "bad.toml"
+    bad.write_text("[top]\nm = \n")
+    page.find_element(By.ID, "load-toml").send_keys(str(bad))
+    message = wait_for(page, "return document.getElementById('notice').textContent")
+    assert message.startswith("bad.toml is not valid TOML: ") and "line 2" in message
+    assert runs(page) == before + 1
+
+
+def test_a_screenshot_of_the_view_is_saved_as_png(page):
+    import io
+
+    from PIL import Image
+
+    _no_downloads(page)
+    seek(page, 2.0)
+    page.find_element(By.ID, "screenshot").click()
+    wait_for(page, "return window.saved && window.saved.name.endsWith('.png')")
+    name, data = _saved_bytes(page)
+    assert name == "kreisel-tippe-ball-t2.000s.png"
+    img = Image.open(io.BytesIO(data))
+    size = page.execute_script(
+        "const c = document.querySelector('#view3d canvas'); return [c.width, c.height];"
+    )
+    assert img.format == "PNG" and list(img.size) == size
+    assert len(np.unique(np.asarray(img.convert("RGB")).reshape(-1, 3) // 8, axis=0)) > 50
+
+
+def test_a_video_of_the_view_is_recorded_as_webm(page):
+    _no_downloads(page)
+    page.execute_script("window.saved = null;")
+    if not page.execute_script("return window.explore.playing"):
+        page.find_element(By.ID, "play").click()
+    page.find_element(By.ID, "record").click()
+    assert text(page, "record") == "Stop and save"
+    time.sleep(1.5)
+    page.find_element(By.ID, "record").click()
+    wait_for(page, "return window.saved && window.saved.name.endsWith('.webm')")
+    name, data = _saved_bytes(page)
+    assert name.startswith("kreisel-tippe-ball-")
+    assert data[:4] == bytes.fromhex("1a45dfa3")  # EBML, the container of WebM
+    assert b"webm" in data[:64] and len(data) > 2000
+    assert text(page, "record") == "Record video"

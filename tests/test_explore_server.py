@@ -10,6 +10,7 @@ import json
 import socket
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import _browser
@@ -17,7 +18,7 @@ import numpy as np
 import pytest
 
 import kreisel
-from kreisel._config import from_tables, preset
+from kreisel._config import from_tables, preset, read_toml
 from kreisel.explore import _api
 from kreisel.explore._geometry import axis_tip, body_parts
 
@@ -386,3 +387,156 @@ def test_the_bodies_of_revolution_run_and_are_drawn(name):
     for part in from_tables(preset(name)).model.part_names:
         assert part in kinds
     assert kinds["body"] == "lathe"
+
+
+@pytest.mark.parametrize(
+    "name, reason",
+    [
+        ("tippe\x00.zarr", "a path has no NUL character"),
+        ("x" * 5000, "a store's path has at most 1024 characters"),
+        ("y" * 300, "File name too long"),  # one part longer than the file system allows
+    ],
+)
+def test_a_store_name_the_file_system_refuses_is_a_clear_400(server, name, reason):
+    status, answer = request(server, "POST", "/api/sweep", {"store": name})
+    assert status == 400
+    assert answer["error"].startswith("store = ") and answer["error"].endswith(reason)
+    assert len(answer["error"]) < 300  # the name is cut short, not echoed 5000 times
+
+
+def _tree_cpu_seconds(pid: int) -> float:
+    """The CPU time (user + system, s) the live processes of ``pid``'s tree have used."""
+    import os
+
+    tick = os.sysconf("SC_CLK_TCK")
+    stats = {}
+    for entry in Path("/proc").iterdir():
+        if entry.name.isdigit():
+            try:
+                fields = (entry / "stat").read_text().rsplit(")", 1)[1].split()
+            except OSError:
+                continue
+            stats[int(entry.name)] = (int(fields[1]), int(fields[11]) + int(fields[12]))
+    tree, todo = set(), [pid]
+    while todo:
+        p = todo.pop()
+        tree.add(p)
+        todo += [c for c, (parent, _) in stats.items() if parent == p and c not in tree]
+    return sum(stats[p][1] for p in tree if p in stats) / tick
+
+
+def test_a_run_whose_client_has_gone_stops_computing(server):
+    """A run of about 12 s of work (a heavy top spinning at 30000 rad/s, rtol 1e-13, 600 s)
+    is asked for and its client closes the connection after 3 s: the server's processes then
+    use (almost) no CPU time, where the run went on computing for its 12 s before."""
+    tables = preset("kovalevskaya")
+    tables["state"]["omega"] = [1.0, -2.0, 30000.0]
+    tables["simulation"].update({"t_end": 600.0, "rtol": 1e-13})
+    body = json.dumps({"tables": tables}).encode()
+    sock = socket.create_connection(("127.0.0.1", server.port), timeout=10)
+    sock.sendall(
+        f"POST /api/run HTTP/1.1\r\nHost: 127.0.0.1:{server.port}\r\n"
+        f"Content-Type: application/json\r\nContent-Length: {len(body)}\r\n\r\n".encode()
+        + body
+    )
+    time.sleep(1.0)
+    busy = _tree_cpu_seconds(server.proc.pid)
+    time.sleep(2.0)
+    assert _tree_cpu_seconds(server.proc.pid) - busy > 0.4  # it is computing
+    sock.close()
+    time.sleep(1.0)  # the server notices within POLL s and ends the computation
+    before = _tree_cpu_seconds(server.proc.pid)
+    time.sleep(2.0)
+    assert _tree_cpu_seconds(server.proc.pid) - before < 0.3
+    # and the server still answers
+    status, answer = request(server, "POST", "/api/run", {"tables": preset("gyroscope")})
+    assert status == 200 and answer["kind"] == "lagrange"
+
+
+# a request must arrive within 5 s (kreisel.explore._guard.REQUEST_TIMEOUT): a connection
+# that dribbles its bytes is closed by then, give or take the test's own pace
+CLOSED_WITHIN = 8.0
+
+
+def _closed_after(sock, dribble: bytes, limit: float) -> tuple[float, bytes]:
+    """Sends ``dribble`` one byte every 0.25 s until the server closes the connection (or
+    ``limit`` s pass): (seconds until it closed, what it answered)."""
+    start = time.monotonic()
+    sock.settimeout(0.25)
+    answer = b""
+    for byte in dribble:
+        if time.monotonic() - start > limit:
+            break
+        try:
+            sock.sendall(bytes([byte]))
+            chunk = sock.recv(4096)
+            answer += chunk
+            if not chunk:
+                return time.monotonic() - start, answer
+        except TimeoutError:
+            continue
+        except (BrokenPipeError, ConnectionResetError):
+            return time.monotonic() - start, answer
+    return time.monotonic() - start, answer
+
+
+def test_slow_headers_do_not_hold_a_connection(server):
+    sock = socket.create_connection(("127.0.0.1", server.port), timeout=10)
+    headers = f"GET /api/schema HTTP/1.1\r\nHost: 127.0.0.1:{server.port}\r\n" + "X-A: b\r\n" * 200
+    took, answer = _closed_after(sock, headers.encode(), 3 * CLOSED_WITHIN)
+    sock.close()
+    assert took < CLOSED_WITHIN
+    assert answer.startswith(b"HTTP/1.1 408 ")
+    assert b"the request did not arrive within" in answer
+
+
+def test_a_slow_body_does_not_hold_a_connection(server):
+    body = json.dumps({"tables": preset("gyroscope")}).encode()
+    sock = socket.create_connection(("127.0.0.1", server.port), timeout=10)
+    sock.sendall(
+        f"POST /api/run HTTP/1.1\r\nHost: 127.0.0.1:{server.port}\r\n"
+        f"Content-Type: application/json\r\nContent-Length: {len(body)}\r\n\r\n".encode()
+    )
+    took, answer = _closed_after(sock, body, 3 * CLOSED_WITHIN)
+    sock.close()
+    assert took < CLOSED_WITHIN
+    assert answer.startswith(b"HTTP/1.1 408 ")
+
+
+def test_an_idle_connection_is_closed(server):
+    # closed with no answer: a browser may be about to send its request on it
+    sock = socket.create_connection(("127.0.0.1", server.port), timeout=3 * CLOSED_WITHIN)
+    start = time.monotonic()
+    answer = sock.recv(4096)
+    sock.close()
+    assert time.monotonic() - start < CLOSED_WITHIN and answer == b""
+
+
+def test_a_kept_alive_connection_serves_request_after_request(server):
+    """The deadline is per request: a connection kept alive between requests (as a browser
+    keeps it) serves each of them, also after a pause."""
+    conn = http.client.HTTPConnection("127.0.0.1", server.port, timeout=30)
+    for pause in (0.0, 2.0, 2.0):
+        time.sleep(pause)
+        conn.request("GET", "/api/schema", headers={"Host": f"127.0.0.1:{server.port}"})
+        r = conn.getresponse()
+        assert r.status == 200 and json.loads(r.read())["kinds"]
+    conn.close()
+
+
+def test_a_toml_file_is_read_as_kreisel_run_reads_it(server, tmp_path):
+    text = '[top]\npreset = "tippe-ball"\nm = 0.021\n\n[state]\npsi_dot = 160.0\n'
+    status, answer = request(server, "POST", "/api/import/toml", {"toml": text, "name": "a.toml"})
+    path = tmp_path / "a.toml"
+    path.write_text(text)
+    assert status == 200 and answer["tables"] == from_tables(read_toml(path)).tables
+    # kreisel run's own messages, naming the file as the user named it
+    status, answer = request(
+        server,
+        "POST",
+        "/api/import/toml",
+        {"toml": "[top]\nkind = 'play'\nm = -1\n", "name": "/x/b.toml"},
+    )
+    assert status == 400 and answer["error"].startswith("b.toml: [top] ")
+    status, answer = request(server, "POST", "/api/import/toml", {"toml": 3})
+    assert status == 400 and answer["error"].startswith("the request must be a JSON object with")

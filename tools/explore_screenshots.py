@@ -74,7 +74,7 @@ def main() -> None:
 
     with tempfile.TemporaryDirectory() as tmp:
         spec = {
-            "top": {"preset": "tippe"},
+            "top": {"preset": "tippe-ball"},  # s and A sweep a top of one sphere
             "grid": {
                 "s": {"start": 0.002, "stop": 0.012, "num": 11},
                 "A": {"start": 2.0e-6, "stop": 3.6e-6, "num": 11},

@@ -298,22 +298,27 @@ def _model(kind: str, top: dict, where: str):
         raise ParameterError(f"{where}{e}") from None
 
 
-def _parts(shape) -> list:
-    """The parts of a ``shape`` field: an array of tables, each a sphere ``{radius, z}``, a
-    spheroid ``{kind = "spheroid", equatorial, axial, z}`` or a torus ``{kind = "torus", major,
-    minor, z}``, with an optional ``name``."""
+def part_kinds() -> dict:
+    """``{kind: (class, fields)}`` of the contact parts a ``shape`` holds: each kind's fields
+    are its class's own (the name aside)."""
     import dataclasses
 
     from .shapes import Sphere, Spheroid, Torus
 
-    # each kind's fields are its class's own (the name aside)
-    kinds = {
+    return {
         cls.__name__.lower(): (
             cls,
             tuple(f.name for f in dataclasses.fields(cls) if f.name != "name"),
         )
         for cls in (Sphere, Spheroid, Torus)
     }
+
+
+def _parts(shape) -> list:
+    """The parts of a ``shape`` field: an array of tables, each a sphere ``{radius, z}``, a
+    spheroid ``{kind = "spheroid", equatorial, axial, z}`` or a torus ``{kind = "torus", major,
+    minor, z}``, with an optional ``name``."""
+    kinds = part_kinds()
     if not isinstance(shape, list) or not shape:
         raise ParameterError(
             f"shape = {shape!r} is not allowed: it must be an array of parts, each a table "

@@ -38,10 +38,15 @@ def serve(
 
     ``store`` is the folder whose sweep stores the page may open (none outside it);
     ``ready(url)`` is called once the server listens (the command line prints the address).
+    Each run computes in a process of its own (:mod:`kreisel.explore._jobs`, Python's
+    ``multiprocessing`` with a fork server): a script that calls ``serve`` runs it under
+    ``if __name__ == "__main__":``, as every script that starts processes does.
     """
     import uvicorn
 
+    from . import _jobs
     from ._app import create_app, missing_vendor
+    from ._guard import guarded_protocol
 
     missing = missing_vendor()
     if missing:
@@ -56,7 +61,10 @@ def serve(
     sock = bind(port)
     url = f"http://{HOST}:{sock.getsockname()[1]}/"
     app = create_app(sock.getsockname()[1], store)
-    server = uvicorn.Server(uvicorn.Config(app, log_level="warning", lifespan="off"))
+    # h11 with a deadline for each request to arrive (slow headers, slow bodies: _guard)
+    config = uvicorn.Config(app, log_level="warning", lifespan="off", http=guarded_protocol())
+    server = uvicorn.Server(config)
+    _jobs.start()  # the runs' fork server, with kreisel loaded, before the first run
     if ready is not None:
         ready(url)
     if open_browser:

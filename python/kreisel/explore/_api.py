@@ -9,7 +9,7 @@ import re
 import tempfile
 import time
 from pathlib import Path
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -23,11 +23,13 @@ from .._config import (
     TOP_FIELDS,
     Problem,
     from_tables,
+    read_toml,
     to_toml,
 )
 from .._errors import ParameterError
 from .._presets import PRESETS
 from .._run import compute, write_trajectory
+from ._fields import field_info, part_fields
 from ._geometry import axis_tip, body_parts
 
 # The work one request may ask for (the page says so when a request asks for more).
@@ -37,6 +39,7 @@ MAX_T_END = 600.0  # s of motion in one run
 MAX_FIXED_STEPS = 2_000_000  # steps of a fixed-step method (t_end / dt)
 MAX_SWEEP_CELLS = 250_000  # cells of a sweep sent to the page
 MAX_BODY = 64 * 1024  # bytes of a request body
+MAX_STORE_NAME = 1024  # characters of a store's path under the store folder
 # the (alpha, gamma) plane of the atlas view
 ATLAS_ALPHA = (0.02, 1.6)
 ATLAS_GAMMA = (0.2, 2.2)
@@ -49,6 +52,14 @@ class RequestError(ValueError):
     def __init__(self, message: str, status: int = 400) -> None:
         super().__init__(message)
         self.status = status
+
+
+class File(NamedTuple):
+    """A file the page downloads: its content, name and media type."""
+
+    content: bytes | str
+    name: str
+    media: str
 
 
 _FIELD = re.compile(r"^\[(top|state|simulation)\] (\w+)\b")
@@ -99,6 +110,8 @@ def schema() -> dict:
             for k in KINDS
         },
         "frictions": list(FRICTIONS),
+        "info": field_info(),
+        "parts": part_fields(),
         "presets": presets,
         "default_t_end": DEFAULT_T_END,
         "limits": {
@@ -305,15 +318,28 @@ def store_path(root: Path, name: Any) -> Path:
     ``root`` (``..``, an absolute path, a symbolic link out of it) is refused."""
     if not isinstance(name, str) or not name:
         raise RequestError('"store" must be the path of a sweep store under the store folder')
+    shown = repr(name) if len(name) <= 80 else f"{name[:60]!r}... ({len(name)} characters)"
+    if "\x00" in name:
+        raise RequestError(f"store = {shown} is not allowed: a path has no NUL character")
+    if len(name) > MAX_STORE_NAME:
+        raise RequestError(
+            f"store = {shown} is not allowed: a store's path has at most {MAX_STORE_NAME} "
+            "characters"
+        )
     base = root.resolve()
-    path = (base / name).resolve()
+    try:
+        path = (base / name).resolve()
+        found = _is_store(path)
+    except (OSError, ValueError) as e:  # a name the file system refuses (too long a part)
+        reason = e.strerror if isinstance(e, OSError) and e.strerror else str(e)
+        raise RequestError(f"store = {shown} is not allowed: {reason}") from None
     if path != base and base not in path.parents:
         raise RequestError(
-            f"store = {name!r} is not allowed: kreisel explore reads stores only under {base}",
+            f"store = {shown} is not allowed: kreisel explore reads stores only under {base}",
             status=403,
         )
-    if not _is_store(path):
-        raise RequestError(f"store = {name!r} is not allowed: there is no sweep store there", 404)
+    if not found:
+        raise RequestError(f"store = {shown} is not allowed: there is no sweep store there", 404)
     return path
 
 
@@ -436,3 +462,45 @@ def trajectory_file(tables: dict, fmt: Any) -> tuple[bytes, str, str]:
         path = Path(tmp) / f"trajectory.{ext}"
         write_trajectory(p, traj, path, fmt)
         return path.read_bytes(), f"{p.preset or p.kind}.{ext}", media
+
+
+# ------------------------------------------------------------------------------------------
+# the requests' work, one function of the request body each (run in a process of its own by
+# kreisel.explore._jobs where it computes a motion)
+# ------------------------------------------------------------------------------------------
+
+
+def run_request(body: Any) -> dict:
+    """The answer to ``POST /api/run``: :func:`run` of the body's tables."""
+    return run(tables_of(body))
+
+
+def toml_file(body: Any) -> File:
+    """The TOML file of the body's tables (``POST /api/export/toml``)."""
+    p = problem(tables_of(body))
+    return File(toml(p), f"{p.preset or p.kind}.toml", "application/toml")
+
+
+def trajectory_request(body: Any) -> File:
+    """The trajectory of the body's tables as CSV or NetCDF (``POST /api/export/trajectory``)."""
+    fmt = body.get("format") if isinstance(body, dict) else None
+    return File(*trajectory_file(tables_of(body), fmt))
+
+
+def import_toml(body: Any) -> dict:
+    """The checked tables of a TOML file as ``kreisel run`` reads it (``POST /api/import/toml``
+    with ``{"toml": TEXT, "name": FILE NAME}``): the same reader, the same checks and messages,
+    so the page runs what ``kreisel run FILE`` would."""
+    if not isinstance(body, dict) or not isinstance(body.get("toml"), str):
+        raise RequestError('the request must be a JSON object with "toml": the text of the file')
+    name = body.get("name") if isinstance(body.get("name"), str) else "file.toml"
+    name = Path(name).name[:120] or "file.toml"
+    with tempfile.TemporaryDirectory() as tmp:
+        path = Path(tmp) / name
+        path.write_text(body["toml"], encoding="utf-8")
+        try:
+            tables = read_toml(path)
+        except ParameterError as e:  # the message names the file as the user knows it
+            raise ParameterError(str(e).replace(str(path), name)) from None
+    p = from_tables(tables, prefix="table", source=name)
+    return {"tables": p.tables, "preset": p.preset}

@@ -8,13 +8,13 @@ from pathlib import Path
 
 from starlette.applications import Starlette
 from starlette.concurrency import run_in_threadpool
-from starlette.requests import Request
+from starlette.requests import ClientDisconnect, Request
 from starlette.responses import FileResponse, JSONResponse, Response
 from starlette.routing import Mount, Route
 from starlette.staticfiles import StaticFiles
 
 from .._errors import KreiselError, ParameterError
-from . import _api
+from . import _api, _jobs
 from ._guard import BodyTooLarge, LoopbackGuard
 
 STATIC = Path(__file__).resolve().parent / "static"
@@ -31,6 +31,9 @@ async def _json(request: Request):
         return json.loads(await request.body())
     except BodyTooLarge as e:  # a body sent without its length, cut off as it arrived
         raise _api.RequestError(str(e), 413) from None
+    except ClientDisconnect:  # the client went (or was closed for sending too slowly)
+        message = "the client closed the connection before its body arrived"
+        raise _api.RequestError(message, 408) from None
     except (ValueError, UnicodeDecodeError) as e:
         raise _api.RequestError(f"the request body is not JSON: {e}") from None
     except RecursionError:
@@ -48,11 +51,19 @@ def _error(e: Exception) -> JSONResponse:
 def create_app(port: int, store: Path | None = None) -> LoopbackGuard:
     """The application serving on ``127.0.0.1:port``, reading sweep stores under ``store``."""
 
-    def guarded(work):
+    def guarded(work, *, isolated: bool = False):
+        """The endpoint answering ``work(body)``: in a thread, or (``isolated``: a run) in a
+        process of its own that ends when the client goes (see :mod:`._jobs`)."""
+
         async def endpoint(request: Request):
             try:
                 body = await _json(request) if request.method == "POST" else None
-                result = await run_in_threadpool(work, body)
+                if isolated:
+                    result = await _jobs.compute(work, body, request.is_disconnected)
+                else:
+                    result = await run_in_threadpool(work, body)
+            except _jobs.Abandoned:
+                return Response(status_code=499)  # nobody reads it: the client has gone
             except (_api.RequestError, KreiselError) as e:
                 return _error(e)
             except ModuleNotFoundError as e:
@@ -61,7 +72,13 @@ def create_app(port: int, store: Path | None = None) -> LoopbackGuard:
                     raise
                 message = f"this needs the package {e.name!r}, which is not installed: "
                 return JSONResponse({"error": message + "pip install 'kreisel[cli]'"}, 501)
-            return result if isinstance(result, Response) else JSONResponse(result)
+            if isinstance(result, _api.File):
+                return Response(
+                    result.content,
+                    media_type=result.media,
+                    headers={"content-disposition": f'attachment; filename="{result.name}"'},
+                )
+            return JSONResponse(result)
 
         return endpoint
 
@@ -70,31 +87,14 @@ def create_app(port: int, store: Path | None = None) -> LoopbackGuard:
             raise _api.RequestError("no store folder: start kreisel explore with --store DIR", 404)
         return store
 
-    def export_toml(body):
-        p = _api.problem(_api.tables_of(body))
-        name = f"{p.preset or p.kind}.toml"
-        return Response(
-            _api.toml(p),
-            media_type="application/toml",
-            headers={"content-disposition": f'attachment; filename="{name}"'},
-        )
-
-    def export_trajectory(body):
-        fmt = body.get("format") if isinstance(body, dict) else None
-        content, name, media = _api.trajectory_file(_api.tables_of(body), fmt)
-        return Response(
-            content,
-            media_type=media,
-            headers={"content-disposition": f'attachment; filename="{name}"'},
-        )
-
     async def index(request: Request):
         return FileResponse(STATIC / "index.html")
 
     routes = [
         Route("/", index),
         Route("/api/schema", guarded(lambda body: _api.schema())),
-        Route("/api/run", guarded(lambda body: _api.run(_api.tables_of(body))), methods=["POST"]),
+        Route("/api/run", guarded(_api.run_request, isolated=True), methods=["POST"]),
+        Route("/api/import/toml", guarded(_api.import_toml), methods=["POST"]),
         Route("/api/atlas", guarded(lambda body: _api.atlas_plane())),
         Route(
             "/api/stores",
@@ -115,8 +115,12 @@ def create_app(port: int, store: Path | None = None) -> LoopbackGuard:
             guarded(lambda body: _api.sweep_cell(needs_store(body), body)),
             methods=["POST"],
         ),
-        Route("/api/export/toml", guarded(export_toml), methods=["POST"]),
-        Route("/api/export/trajectory", guarded(export_trajectory), methods=["POST"]),
+        Route("/api/export/toml", guarded(_api.toml_file), methods=["POST"]),
+        Route(
+            "/api/export/trajectory",
+            guarded(_api.trajectory_request, isolated=True),
+            methods=["POST"],
+        ),
         Mount("/static", StaticFiles(directory=STATIC), name="static"),
     ]
     return LoopbackGuard(Starlette(routes=routes), port, _api.MAX_BODY)

@@ -30,7 +30,8 @@ def _contact_parts(top) -> list[dict]:
         from ..animate import _part_profile
 
         zc, half, radius_at = _part_profile(p, 0.0)
-        zs = [zc - half + 2 * half * k / 40 for k in range(41)]
+        # evenly in the angle from the axis, not in z: the poles of a spheroid are round too
+        zs = [zc - half * math.cos(math.pi * k / 40) for k in range(41)]
         rs = [float(radius_at(z)) for z in zs]
         rs[0] = rs[-1] = 0.0
         out.append({"kind": "lathe", "name": name, "radius": max(rs), "z": float(zc),

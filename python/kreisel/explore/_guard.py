@@ -68,3 +68,72 @@ class LoopbackGuard:
 
 class BodyTooLarge(Exception):
     """A streamed request body passed the limit."""
+
+
+REQUEST_TIMEOUT = 5.0  # s for a request, headers and body, to arrive
+
+
+def guarded_protocol(timeout: float = REQUEST_TIMEOUT):
+    """uvicorn's HTTP/1.1 protocol (h11) with a deadline: a request must arrive whole, its
+    headers and its body, within ``timeout`` s of its first byte (or of the connection, for
+    the first request); else the server answers 408 and closes the connection (a connection
+    on which nothing came is closed with no answer: a browser may be about to use it). uvicorn
+    itself only times out an idle connection between requests, so a client that sends a byte
+    now and then (slow headers, a slow body) would hold its connection for ever."""
+    import h11
+    from uvicorn.protocols.http.h11_impl import H11Protocol
+
+    late = _refusal(
+        408, f"the request did not arrive within {timeout:g} s: the connection is closed"
+    )
+
+    class DeadlineH11Protocol(H11Protocol):
+        deadline = None
+        begun = False  # part of a request has come
+
+        def _arm(self) -> None:
+            if self.deadline is None:
+                self.deadline = self.loop.call_later(timeout, self._too_slow)
+
+        def _disarm(self) -> None:
+            if self.deadline is not None:
+                self.deadline.cancel()
+                self.deadline = None
+            self.begun = False
+
+        def connection_made(self, transport) -> None:
+            super().connection_made(transport)
+            self._arm()
+
+        def data_received(self, data: bytes) -> None:
+            if self.conn.their_state is h11.IDLE:
+                self._arm()  # the first byte of a request after an idle keep-alive
+            self.begun = True
+            super().data_received(data)
+            if self.conn.their_state not in (h11.IDLE, h11.SEND_BODY):
+                self._disarm()  # the request arrived whole (or the connection ends)
+
+        def connection_lost(self, exc) -> None:
+            self._disarm()
+            super().connection_lost(exc)
+
+        def _too_slow(self) -> None:
+            self.deadline = None
+            if self.transport.is_closing():
+                return
+            if self.begun and (self.cycle is None or not self.cycle.response_started):
+                self.transport.write(late)
+            self.transport.close()
+
+    return DeadlineH11Protocol
+
+
+def _refusal(status: int, message: str) -> bytes:
+    """A whole HTTP/1.1 response that closes the connection, written as bytes."""
+    body = json.dumps({"error": message}).encode()
+    reason = {408: "Request Timeout"}[status]
+    head = (
+        f"HTTP/1.1 {status} {reason}\r\ncontent-type: application/json\r\n"
+        f"content-length: {len(body)}\r\nconnection: close\r\n\r\n"
+    )
+    return head.encode() + body

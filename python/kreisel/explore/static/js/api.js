@@ -41,7 +41,12 @@ export async function download(path, body) {
   }));
   const disposition = response.headers.get('content-disposition') || '';
   const name = (disposition.match(/filename="([^"]+)"/) || [])[1] || 'kreisel-export';
-  const url = URL.createObjectURL(await response.blob());
+  return saveBlob(await response.blob(), name);
+}
+
+// Saves a blob as a file (the browser's download); the last one saved is window.saved.
+export function saveBlob(blob, name) {
+  const url = URL.createObjectURL(blob);
   const a = document.createElement('a');
   a.href = url;
   a.download = name;
@@ -49,5 +54,6 @@ export async function download(path, body) {
   a.click();
   a.remove();
   setTimeout(() => URL.revokeObjectURL(url), 1000);
+  window.saved = { name, blob };
   return name;
 }

@@ -15,15 +15,50 @@ function colour(x) {
   return `rgb(${c[0]},${c[1]},${c[2]})`;
 }
 
+// the readout's numbers: 4 significant digits
+const read = (v) => String(Number(v.toPrecision(4)));
 const fmt = (v) => (Math.abs(v) >= 1e4 || (Math.abs(v) < 1e-2 && v !== 0) ? v.toExponential(2) : v.toPrecision(3));
 
 export class SweepMap {
-  constructor(canvas, onCell) {
+  constructor(canvas, onCell, readout) {
     this.canvas = canvas;
     this.onCell = onCell;
+    this.readout = readout;
     this.view = null;
     this.picked = null;
     canvas.addEventListener('click', (e) => this.click(e));
+    canvas.addEventListener('mousemove', (e) => this.hover(e));
+    canvas.addEventListener('mouseleave', () => { this.readout.textContent = ''; });
+  }
+
+  // The cell [i, j] under the mouse, or null.
+  cellAt(event) {
+    if (!this.view) return null;
+    const b = this.box();
+    const at = clickIn(this.canvas, event, b);
+    if (!at) return null;
+    const [px, py] = at;
+    const { rows, cols } = this.shape();
+    const j = Math.min(Math.floor(((px - b.x0) / b.w) * cols), cols - 1);
+    const i = rows - 1 - Math.min(Math.floor(((py - b.y0) / b.h) * rows), rows - 1);
+    return [i, j];
+  }
+
+  // The readout of the cell under the mouse: its swept values and its summary.
+  hover(event) {
+    const cell = this.cellAt(event);
+    if (!cell) {
+      this.readout.textContent = '';
+      return;
+    }
+    const [i, j] = cell;
+    const [dy, dx] = this.view.dims;
+    const at = [`${dy} = ${read(this.view.coords[dy][i])}`];
+    if (dx) at.push(`${dx} = ${read(this.view.coords[dx][j])}`);
+    const v = this.view.values[i][j];
+    const unit = this.view.units ? ` ${this.view.units}` : '';
+    this.readout.textContent = `${at.join(', ')}: ${this.view.var} = ${v === null ? 'NaN' : read(v) + unit}`;
+    this.readout.dataset.cell = JSON.stringify(cell);
   }
 
   // rows: the first swept parameter (bottom to top); columns: the second (or one column)
@@ -96,16 +131,10 @@ export class SweepMap {
   }
 
   click(event) {
-    if (!this.view) return;
-    const b = this.box();
-    const at = clickIn(this.canvas, event, b);
-    if (!at) return;
-    const [px, py] = at;
-    const { rows, cols } = this.shape();
-    const j = Math.floor(((px - b.x0) / b.w) * cols);
-    const i = rows - 1 - Math.floor(((py - b.y0) / b.h) * rows);
-    this.picked = [i, j];
+    const cell = this.cellAt(event);
+    if (!cell) return;
+    this.picked = cell;
     this.draw();
-    this.onCell(this.view.dims.length > 1 ? [i, j] : [i]);
+    this.onCell(this.view.dims.length > 1 ? cell : [cell[0]]);
   }
 }

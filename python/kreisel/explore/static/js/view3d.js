@@ -21,14 +21,31 @@ function stripes(a, b, n) {
 // three's spheres and lathes turn about y; kreisel's figure axis e3 is z
 const Y_TO_Z = new THREE.Matrix4().makeRotationX(Math.PI / 2);
 
-function mesh(part, materials) {
+// The distance from the body's origin (G, or the pivot) to the farthest point of its parts (m).
+export function bodyReach(parts) {
+  let reach = 0;
+  for (const p of parts) {
+    if (p.kind === 'sphere') reach = Math.max(reach, Math.abs(p.z) + p.radius);
+    else if (p.kind === 'lathe') for (const [r, z] of p.profile) reach = Math.max(reach, Math.hypot(r, z));
+    else if (p.kind === 'ellipsoid') reach = Math.max(reach, Math.hypot(...p.center) + Math.max(...p.radii));
+    else if (p.kind === 'rod') reach = Math.max(reach, Math.hypot(...p.start), Math.hypot(...p.end));
+  }
+  return reach;
+}
+
+// A body of spheroids and rings is drawn as its parts and, around them, the outline of their
+// union (the necks between them): that outline runs on the parts' own surfaces, so it is drawn
+// 1 % inside them, else the two coincident surfaces fight for each pixel (z-fighting).
+const HULL_INSIDE = 0.99;
+
+function mesh(part, materials, inside = 1) {
   let geometry;
   if (part.kind === 'sphere') {
     geometry = new THREE.SphereGeometry(Math.max(part.radius, 1e-6), 48, 32);
     geometry.applyMatrix4(Y_TO_Z);
     geometry.translate(0, 0, part.z);
   } else if (part.kind === 'lathe') {
-    const points = part.profile.map(([r, z]) => new THREE.Vector2(r, z));
+    const points = part.profile.map(([r, z]) => new THREE.Vector2(inside * r, z));
     geometry = new THREE.LatheGeometry(points, 64);
     geometry.applyMatrix4(Y_TO_Z);
   } else if (part.kind === 'ellipsoid') {
@@ -108,9 +125,14 @@ export class View3D {
     this.run = run;
     this.body.clear();
     this.world.clear();
-    for (const part of run.body.parts) this.body.add(mesh(part, this.materials));
+    // the hull of a body of spheroids and rings lies on its parts: drawn just inside them
+    const lathes = run.body.parts.some((p) => p.role === 'contact' && p.kind === 'lathe');
+    for (const part of run.body.parts) {
+      this.body.add(mesh(part, this.materials, lathes && part.role === 'hull' ? HULL_INSIDE : 1));
+    }
     const L = run.body.axis; // signed: a tippe top's is drawn toward its stem, at -e3
-    const R = Math.abs(L); // the scale of the scene
+    // the scale of the scene: the body's own size (a disk's axis is short, its radius not)
+    const R = Math.max(Math.abs(L), bodyReach(run.body.parts));
     const n = run.t.length;
     const play = run.body.origin === 'com';
     // the figure axis, drawn in the body
@@ -156,17 +178,44 @@ export class View3D {
       new THREE.MeshStandardMaterial({ color: 0xdfe4ea, roughness: 0.9, transparent: true, opacity: 0.8 }));
     floor.position.z = floorZ - 1e-4 * R;
     this.world.add(floor);
-    // framed on the body as it starts: a play top's centre of mass stands h above the floor
+    // framed on the body as it starts: the sphere of radius R about its origin (a play top's
+    // centre of mass, h above the floor) fills about 3/4 of the view's height
     const h = play ? run.com[0][2] : 0;
-    const S = Math.max(R, 0.6 * (h + R));
-    this.camera.near = S / 200;
-    this.camera.far = 200 * S;
-    this.camera.position.set(3.2 * S, -4.2 * S, 2.6 * S + 0.5 * h);
-    this.controls.target.set(0, 0, play ? 0.5 * h : 0.4 * R);
-    this.controls.update();
+    const target = new THREE.Vector3(run.com ? run.com[0][0] : 0, run.com ? run.com[0][1] : 0,
+      play ? 0.5 * h : 0);
+    const distance = (1.3 * Math.max(R, 0.5 * h + R)) / Math.tan(((this.camera.fov / 2) * Math.PI) / 180);
+    this.camera.near = distance / 500;
+    this.camera.far = 500 * distance;
     this.camera.updateProjectionMatrix();
+    // low over the floor (12 degrees): a top standing on its peg shows the peg under its ball
+    this.home = { target, distance, elevation: (12 * Math.PI) / 180, azimuth: -0.92 };
+    this.resetCamera();
     this.setTime(0, 0);
   }
+
+  // The camera at `distance` from the target, seen from `elevation` above the floor and
+  // `azimuth` about the vertical (rad).
+  look(elevation, azimuth, distance = this.home.distance, target = this.controls.target) {
+    const c = Math.cos(elevation);
+    this.controls.target.copy(target);
+    this.camera.position.set(target.x + distance * c * Math.cos(azimuth),
+      target.y + distance * c * Math.sin(azimuth), target.z + distance * Math.sin(elevation));
+    this.controls.update();
+    this.dirty = true;
+  }
+
+  // The camera as the run started, over the body where it is now when it follows it.
+  resetCamera() {
+    if (!this.home) return;
+    const t = this.home.target.clone();
+    if (this.follow && this.run && this.run.com) t.setX(this.body.position.x).setY(this.body.position.y);
+    this.look(this.home.elevation, this.home.azimuth, this.home.distance, t);
+  }
+
+  // Level with the target, looking along +y; straight down on the floor.
+  sideView() { this.look(0, -Math.PI / 2, this.camera.position.distanceTo(this.controls.target)); }
+
+  topView() { this.look(Math.PI / 2 - 1e-4, -Math.PI / 2, this.camera.position.distanceTo(this.controls.target)); }
 
   // Poses the body between samples i and i + 1 (frac in [0, 1)) and draws the traces so far.
   setTime(i, frac) {

@@ -212,6 +212,29 @@ def test_a_run_is_the_one_of_kreisel_simulate(server):
     assert run["atlas"]["J"] == top.jellett(top.state(**t["state"]))
 
 
+def test_a_shaken_top_runs_on_its_moving_pivot(server):
+    """The kapitza preset's [pivot] reaches the run: the body's origin follows the pivot's
+    path (computed here from the shaking), and the balance replaces the integrals."""
+    t = preset("kapitza")
+    status, run = request(server, "POST", "/api/run", {"tables": t})
+    assert status == 200, run
+    assert run["tables"]["pivot"] == t["pivot"]
+    p = t["pivot"]
+    z = p["amplitude"][2] * np.cos(p["omega"] * np.array(run["t"]))
+    np.testing.assert_allclose(np.array(run["com"])[:, 2], z, rtol=0, atol=1e-15)
+    b = np.array(run["series"]["balance"])
+    # constant to the run's tolerance (rtol 1e-9) accumulated over its ~10^3 steps
+    assert np.ptp(b) < 1e-6 * np.abs(run["series"]["energy"]).max()
+    assert "Mz" in run["series"] and "M3" not in run["series"]
+    # an empty [pivot] or [damping] (a form's empty fields) says nothing
+    status, plain = request(
+        server, "POST", "/api/run", {"tables": {**preset("toy"), "pivot": {}, "damping": {}}}
+    )
+    assert status == 200 and "balance" not in plain["series"], plain
+    status, bad = request(server, "POST", "/api/run", {"tables": {**t, "damping": {"dry": -1}}})
+    assert status == 400 and "dry" in json.dumps(bad), bad
+
+
 def test_a_lagrange_run_is_posed_by_its_euler_angles(server):
     status, run = request(server, "POST", "/api/run", {"tables": preset("toy")})
     q = np.array(run["quaternion"])

@@ -189,7 +189,8 @@ def from_tables(tables: dict, *, prefix: str = "", source: str = "") -> Problem:
     top = dict(tables.get("top", {}))
     state = dict(tables.get("state", {}))
     sim = dict(tables.get("simulation", {}))
-    drive = {t: dict(tables[t]) for t in DRIVE_TABLES if t in tables}
+    # an empty [pivot] or [damping] table says nothing (a form's empty fields)
+    drive = {t: dict(tables[t]) for t in DRIVE_TABLES if tables.get(t)}
     chosen = top.pop("preset", None)
     if chosen is not None:
         base = preset(chosen)

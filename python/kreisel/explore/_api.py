@@ -14,7 +14,9 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from .._config import (
+    DAMPING_FIELDS,
     DEFAULT_T_END,
+    DRIVE_TABLES,
     FRICTIONS,
     KINDS,
     SIMULATION_FIELDS,
@@ -31,6 +33,9 @@ from .._presets import PRESETS
 from .._run import compute, write_trajectory
 from ._fields import field_info, part_fields
 from ._geometry import axis_tip, body_parts
+
+# The fields of a [pivot] table the form shows (a path comes from a TOML file).
+PIVOT_FORM = ("kind", "amplitude", "omega", "phase")
 
 # The work one request may ask for (the page says so when a request asks for more).
 MAX_SAMPLES = 20_001  # points of a run sent to the page
@@ -93,6 +98,7 @@ def schema() -> dict:
             "summary": p.summary,
             "tables": {
                 "top": dict(p.top),
+                **{t: dict(getattr(p, t)) for t in DRIVE_TABLES if getattr(p, t)},
                 "state": dict(p.state),
                 "simulation": dict(p.simulation),
             },
@@ -104,6 +110,8 @@ def schema() -> dict:
         "fields": {
             k: {
                 "top": list(TOP_FIELDS[k]),
+                "pivot": [] if k == "play" else list(PIVOT_FORM),
+                "damping": [] if k == "play" else list(DAMPING_FIELDS),
                 "state": list(STATE_FIELDS[k]),
                 "simulation": list(SIMULATION_FIELDS),
             }
@@ -135,11 +143,12 @@ def tables_of(body: Any) -> dict:
     for key, table in tables.items():
         if key not in TABLES:
             raise RequestError(
-                f"[{key}] is not a known table: allowed are [top], [state], [simulation]"
+                f"[{key}] is not a known table: allowed are " + ", ".join(f"[{t}]" for t in TABLES)
             )
         if not isinstance(table, dict):
             raise RequestError(f"[{key}] must be an object of fields")
-    return {k: dict(tables.get(k, {})) for k in TABLES}
+    # a pivot's tables only where given (a play top has none)
+    return {k: dict(tables.get(k, {})) for k in TABLES if k not in DRIVE_TABLES or tables.get(k)}
 
 
 def problem(tables: dict) -> Problem:
@@ -226,6 +235,9 @@ def run(tables: dict) -> dict:
     evs = list(getattr(traj, "events", None) or [])
     out["events"] = [{"name": e.name, "t": float(e.t), "part": getattr(e, "part", None)}
                      for e in evs[:1000]]  # fmt: skip
+    if "pivot_position" in traj.columns:
+        # the body's origin, the pivot, moves: the view follows it as a play top's centre
+        out["com"] = _column(traj.pivot_position)
     if p.kind == "play":
         modes = list(names()["modes"])
         out["modes"] = modes
@@ -249,7 +261,8 @@ def run(tables: dict) -> dict:
         except ParameterError as e:  # a top the atlas does not cover (several contact parts)
             out["atlas"], out["atlas_note"] = None, str(e)
     else:
-        for k in ("energy", "potential", "Mz", "M3", "kovalevskaya"):
+        for k in ("energy", "potential", "Mz", "M3", "kovalevskaya", "work_by_pivot",
+                  "dissipated", "balance"):  # fmt: skip
             if k in traj.columns:
                 series[k] = _column(traj[k])
         if "energy" in series and "potential" in series:

@@ -63,7 +63,30 @@ SIMULATION = {
     "dt": ("time step", "s", "step of a fixed-step method"),
     "samples": ("samples", "count", "points of the motion recorded and shown"),
 }  # fmt: skip
-TABLES = {"top": TOP, "state": STATE, "simulation": SIMULATION}
+PIVOT = {
+    "kind": ("pivot motion", "", "fixed (the default), harmonic: amplitude cos(omega t + "
+             "phase), or path (from a TOML file)"),
+    "amplitude": ("shaking amplitude", "m", "the harmonic pivot's amplitude vector: x, y, z "
+                  "(z up)"),
+    "omega": ("shaking frequency ω", "rad/s", "angular frequency of the harmonic pivot"),
+    "phase": ("shaking phase", "rad", "phase at t = 0: one number, or one per component "
+              "(an ellipse)"),
+}  # fmt: skip
+DAMPING = {
+    "viscous": ("viscous damping", "N m s", "the torque -viscous omega at the pivot"),
+    "drag": ("air drag", "N m s²", "the torque -drag |omega| omega"),
+    "dry": ("dry friction μp", "1", "Coulomb coefficient of the ball joint: a torque up to "
+            "dry pivot_radius |R| against the rotation, sticking at rest"),
+    "pivot_radius": ("ball joint radius", "m", "radius of the ball joint (dry friction's "
+                     "lever)"),
+}  # fmt: skip
+TABLES = {
+    "top": TOP,
+    "pivot": PIVOT,
+    "damping": DAMPING,
+    "state": STATE,
+    "simulation": SIMULATION,
+}
 
 
 def field_info() -> dict:

@@ -80,12 +80,16 @@ pub trait OdeSystem<const N: usize> {
     /// state is not projected.
     fn project(&self, _y: &mut [f64; N]) {}
 
-    /// How many leading components the adaptive integrators' error norm controls (default:
-    /// all). The rest are quadratures carried along (a work, a dissipated energy), whose
-    /// accuracy follows from the controlled ones' steps; their tolerance scale (absolute, on
-    /// values that start at 0) would otherwise set the steps. SUNDIALS' CVODES keeps
-    /// quadratures out of its error test the same way unless asked.
-    const CONTROLLED: usize = N;
+    /// The magnitude below which each component's error is measured as if it had that
+    /// magnitude: the adaptive integrators' error scale of component i is
+    /// `atol + rtol * max(|y_i|, floor_i)` (default: all 0, the plain `atol + rtol |y_i|`).
+    /// For a quadrature carried along (a work, a dissipated energy) that starts at 0 and
+    /// crosses it, the floor is the size it is measured against (an energy scale): else its
+    /// absolute tolerance near 0 would set the steps.
+    #[inline(always)]
+    fn magnitude_floor(&self) -> [f64; N] {
+        [0.0; N]
+    }
 }
 
 /// An [`OdeSystem`] given by a closure `|t, y, dy| ...` (no projection).

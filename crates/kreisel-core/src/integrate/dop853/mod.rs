@@ -563,8 +563,9 @@ impl Dop853 {
         finite &= all_finite(&y_new);
 
         let (mut err5, mut err3) = (0.0, 0.0);
-        for i in 0..S::CONTROLLED {
-            let sk = self.atol + self.rtol * y[i].abs().max(y_new[i].abs());
+        let floor = sys.magnitude_floor();
+        for i in 0..N {
+            let sk = self.atol + self.rtol * y[i].abs().max(y_new[i].abs()).max(floor[i]);
             err5 += scaled(e5[i], sk).powi(2);
             err3 += scaled(e3[i], sk).powi(2);
         }
@@ -573,7 +574,7 @@ impl Dop853 {
             deno = 1.0;
         }
         // err is +inf (reject, shrink) if a zero scale meets a nonzero error estimate.
-        let mut err = h.abs() * err5 / (S::CONTROLLED as f64 * deno).sqrt();
+        let mut err = h.abs() * err5 / (N as f64 * deno).sqrt();
         if err.is_nan() {
             err = f64::INFINITY;
         }
@@ -596,8 +597,9 @@ impl Dop853 {
     ) -> f64 {
         let mut sk = [0.0; N];
         let (mut dnf, mut dny) = (0.0, 0.0);
-        for i in 0..S::CONTROLLED {
-            sk[i] = self.atol + self.rtol * y[i].abs();
+        let floor = sys.magnitude_floor();
+        for i in 0..N {
+            sk[i] = self.atol + self.rtol * y[i].abs().max(floor[i]);
             dnf += scaled(f0[i], sk[i]).powi(2);
             dny += scaled(y[i], sk[i]).powi(2);
         }
@@ -615,7 +617,7 @@ impl Dop853 {
         sys.rhs(t + h, &y1, &mut f1);
         stats.rhs_evals += 1;
         let mut der2 = 0.0;
-        for i in 0..S::CONTROLLED {
+        for i in 0..N {
             der2 += scaled(f1[i] - f0[i], sk[i]).powi(2);
         }
         let der2 = der2.sqrt() / h;

@@ -29,6 +29,11 @@ function layout(run) {
     { title: 'invariants: angular momentum (kg m²/s)', keys: [['Mz', 'Mz'], ['M3', 'M3']].filter(([k]) => k in run.series) },
   ];
   if ('kovalevskaya' in run.series) out.push({ title: "Kovalevskaya's integral", keys: [['kovalevskaya', 'K']] });
+  if ('balance' in run.series) {
+    // a moving or damped pivot: the energy balance replaces the integrals
+    out[2] = { title: 'energy balance (J): E + dissipated − work by the pivot is constant',
+      keys: [['work_by_pivot', 'work by the pivot'], ['dissipated', 'dissipated'], ['balance', 'E + D − W']] };
+  }
   return out;
 }
 

@@ -6,7 +6,9 @@ import { SweepMap } from './sweep.js';
 import { View3D } from './view3d.js';
 
 const $ = (id) => document.getElementById(id);
-const TABLES = ['top', 'state', 'simulation'];
+const TABLES = ['top', 'pivot', 'damping', 'state', 'simulation'];
+// tables a top may leave out (a pivot that moves, damping at it: heavy and Lagrange tops)
+const OPTIONAL = ['pivot', 'damping'];
 
 const state = {
   schema: null,
@@ -180,7 +182,8 @@ function buildForm(kind, tables) {
   for (const table of TABLES) {
     const fs = $(`fs-${table}`);
     fs.querySelectorAll('.field').forEach((e) => e.remove());
-    for (const name of fields[table]) {
+    fs.hidden = !(fields[table] || []).length;
+    for (const name of fields[table] || []) {
       const about = info(table, name);
       const row = document.createElement('div');
       row.className = 'field';
@@ -216,7 +219,7 @@ function buildForm(kind, tables) {
 }
 
 function readForm() {
-  const tables = { top: { kind: $('kind').value }, state: {}, simulation: {} };
+  const tables = { top: { kind: $('kind').value }, pivot: {}, damping: {}, state: {}, simulation: {} };
   document.querySelectorAll('#form .field').forEach((row) => {
     const input = row.querySelector(`#f-${row.dataset.table}-${row.dataset.field}`);
     let v;
@@ -225,6 +228,7 @@ function readForm() {
     else v = readInput(input);
     if (v !== undefined) tables[row.dataset.table][row.dataset.field] = v;
   });
+  for (const t of OPTIONAL) if (!Object.keys(tables[t]).length) delete tables[t];
   return tables;
 }
 

@@ -9,17 +9,17 @@ phi_dot = 0.7, psi_dot = 9), is integrated for 100 s with rtol = 1e-10, atol = 1
 kreisel.simulate(method="dop853") and by scipy.integrate.solve_ivp(method="DOP853") on the
 same equations (unit quaternion + body angular velocity; in the frame that moves with the
 pivot the top feels gravity and the inertial force -m a_O(t) at its centre of mass; the
-right-hand side in plain Python below). Both return every accepted step. kreisel also
-integrates the pivot's work and the dissipated energy along (two more components, whose errors
-its error norm measures against the motion's energy scale, so they take no extra steps: the
-same 4915 as scipy on the motion alone), so there are two peers: scipy on the motion alone (the
-ratio reported first, the target's) and scipy on the same nine components with its plain error
-norm (which their absolute tolerance near zero drives to 7175 steps). Each is timed against kreisel side by side in
-R rounds (default 9): one scipy run, then kreisel runs for as long; the ratio is the median
-over the rounds of scipy's time over kreisel's median time in that round (_common.paired). The final
-states of both are compared with a tight scipy run (rtol 1e-13, atol 1e-15; the motion is
-regular, its Lyapunov estimate decays like ln(t)/t, so the comparison at 100 s means
-something). The result is written to benchmarks/results-driven.json (or --out).
+right-hand side in plain Python below). Both return every accepted step. kreisel also integrates
+the pivot's work and the dissipated energy along (two more components, whose errors its error
+norm measures against the motion's energy scale, so they take no extra steps: the same 4915 as
+scipy on the motion alone), so there are two peers: scipy on the motion alone (the ratio
+reported first, the target's) and scipy on the same nine components with its plain error norm
+(which their absolute tolerance near zero drives to 7175 steps). Each is timed against kreisel
+side by side in R rounds (default 9): one scipy run, then kreisel runs for as long; the ratio is
+the median over the rounds of scipy's time over kreisel's median time in that round
+(_common.paired). The final states of both are compared with a tight scipy run (rtol 1e-13, atol
+1e-15; the motion is regular, its Lyapunov estimate decays like ln(t)/t, so the comparison at
+100 s means something). The result is written to benchmarks/results-driven.json (or --out).
 """
 
 from __future__ import annotations

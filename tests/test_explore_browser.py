@@ -640,3 +640,40 @@ def test_a_video_of_the_view_is_recorded_as_webm(page):
     assert data[:4] == bytes.fromhex("1a45dfa3")  # EBML, the container of WebM
     assert b"webm" in data[:64] and len(data) > 2000
     assert text(page, "record") == "Record video"
+
+
+def test_a_shaken_top_shows_its_pivot_and_follows_it(browser, server):
+    """The kapitza preset: the form shows the pivot's fields (and none for a play top), the
+    run is kreisel.simulate's on the shaken pivot (the rod stays up, its balance chart is
+    drawn), the body's origin moves with the pivot, and an edited omega reruns."""
+    open_page(browser, server.url + "?preset=kapitza")
+    t = preset("kapitza")
+    assert field(browser, "pivot", "omega").get_attribute("value") == "200"
+    assert not browser.find_element(By.ID, "fs-pivot").get_attribute("hidden")
+    run = browser.execute_script("return window.explore.run")
+    assert run["tables"]["pivot"] == t["pivot"]
+    problem = from_tables(t)
+    traj = kreisel.simulate(problem.model, problem.state, 3.0, rtol=1e-9,
+                            t_eval=np.linspace(0.0, 3.0, 3001))  # fmt: skip
+    np.testing.assert_array_equal(run["quaternion"], traj.quaternion)
+    assert max(np.array(run["series"]["u"])) <= 1 and min(run["series"]["u"]) > 0.9
+    z = []
+    for tt in (0.0, np.pi / 200):  # the pivot up at 0, down half a period later
+        seek(browser, tt)
+        z.append(browser.execute_script("return window.explore.view.body.position.z"))
+    # (the view interpolates between samples 1 ms apart)
+    assert z[0] == pytest.approx(0.01) and z[1] == pytest.approx(-0.01, abs=1e-4)
+    titles = browser.execute_script(
+        "return [...document.querySelectorAll('#charts h3')].map((e) => e.textContent)"
+    )
+    assert any("balance" in x for x in titles), titles
+    # a slower shaking: the rod falls (below the Kapitza threshold)
+    before = runs(browser)
+    box = field(browser, "pivot", "omega")
+    box.clear()
+    box.send_keys("100")
+    browser.find_element(By.ID, "run").click()
+    wait_for(browser, f"return window.explore.runs > {before}")
+    assert min(browser.execute_script("return window.explore.run.series.u")) < 0.0
+    open_page(browser, server.url + BALL)
+    assert browser.find_element(By.ID, "fs-pivot").get_attribute("hidden")

@@ -32,6 +32,8 @@ MODULES = [
     ("kreisel._sweep.spec", True),
     ("kreisel._sweep.store", False),
     ("kreisel.events", True),
+    ("kreisel.pivots", True),
+    ("kreisel._poincare", True),
     ("kreisel.special", True),
     ("kreisel.bodies", True),
     ("kreisel.quantum", True),

@@ -116,9 +116,9 @@ def rigid_state(state) -> RigidState:
 def drive(heavy_native, pivot, damping):
     """(pivot, damping, native driven top or None) of a top's ``pivot`` and ``damping``
     arguments: a top given a pivot other than Fixed, or any damping, is a driven top."""
-    from .pivots import Fixed, PivotDamping, check_damping, check_pivot
+    from .pivots import Fixed, PivotDamping, _check_damping, _check_pivot
 
-    p, d = check_pivot(pivot), check_damping(damping)
+    p, d = _check_pivot(pivot), _check_damping(damping)
     if isinstance(p, Fixed) and d is None:
         return p, None, None
     dd = d if d is not None else PivotDamping()

@@ -515,7 +515,7 @@ def pivot_from_dict(d: dict[str, Any]) -> _Pivot:
 Pivot = _Pivot
 
 
-def check_pivot(pivot) -> _Pivot:
+def _check_pivot(pivot) -> _Pivot:
     """The pivot argument of a top, checked (None: fixed)."""
     if pivot is None:
         return Fixed()
@@ -526,7 +526,7 @@ def check_pivot(pivot) -> _Pivot:
     )
 
 
-def check_damping(damping) -> PivotDamping | None:
+def _check_damping(damping) -> PivotDamping | None:
     """The damping argument of a top, checked (None: none)."""
     if damping is None or isinstance(damping, PivotDamping):
         return damping

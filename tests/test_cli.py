@@ -17,6 +17,9 @@ import numpy as np
 import pytest
 
 from kreisel import simulate
+from kreisel._presets import PRESETS as _PRESETS
+
+PRESET_NAMES = list(_PRESETS)
 
 SCRIPT = Path(sys.executable).with_name("kreisel")
 KREISEL = [str(SCRIPT)] if SCRIPT.exists() else [sys.executable, "-m", "kreisel"]
@@ -358,3 +361,61 @@ def test_another_friction_law_takes_its_own_coefficient(tmp_path):
                 "--out", tmp_path / law)  # fmt: skip
         summary = json.loads((tmp_path / law / "summary.json").read_text())
         assert f"friction={shown}" in summary["top"]["repr"]
+
+
+@pytest.mark.parametrize("name", sorted(PRESET_NAMES))
+def test_every_preset_printed_as_toml_reruns_its_own_run(name, tmp_path, capsys):
+    """`kreisel presets --toml NAME` is a TOML file (read by the standard library's parser)
+    that `kreisel run` turns into the very run of the preset: the same top, state and
+    settings, so the same trajectory, number for number."""
+    import tomllib
+
+    from kreisel._cli import main
+    from kreisel._config import from_tables, preset, read_toml
+    from kreisel._run import compute
+
+    assert main(["presets", "--toml", name]) == 0
+    text = capsys.readouterr().out
+    tomllib.loads(text)  # valid TOML, whatever kreisel makes of it
+    path = tmp_path / f"{name}.toml"
+    path.write_text(text)
+    via_file = compute(from_tables(read_toml(path), prefix="table", source=path.name))
+    direct = compute(from_tables(preset(name)))
+    assert via_file.columns == direct.columns
+    assert len(via_file) == len(direct) > 1
+    for column in direct.columns:
+        np.testing.assert_array_equal(via_file[column], direct[column], err_msg=column)
+
+
+def test_a_preset_with_parts_runs_from_its_toml_file(tmp_path):
+    """The user's round trip: `kreisel presets --toml tippe > top.toml && kreisel run top.toml`
+    (the tippe top is made of two parts, written as [[top.shape]] tables)."""
+    path = tmp_path / "top.toml"
+    path.write_text(kreisel("presets", "--toml", "tippe").stdout)
+    assert "[[top.shape]]" in path.read_text()
+    kreisel("run", path, "--no-figures", "--out", tmp_path / "o")
+    summary = json.loads((tmp_path / "o" / "summary.json").read_text())
+    assert [p["name"] for p in summary["top"]["shape"]] == ["ball", "peg"]
+    assert summary["result"]["inversion_time"] is not None
+
+
+@pytest.mark.parametrize("flag", ["--s", "--rho"])
+def test_a_tip_field_on_a_top_of_parts_says_what_clashes(flag):
+    proc = kreisel("play", "--preset", "tippe", flag, "0.01", check=False)
+    assert proc.returncode == 2
+    err = proc.stderr
+    assert "missing" not in err
+    assert f"{flag[2:]} = 0.01 clashes with the shape of preset 'tippe'" in err
+    assert "(ball, peg)" in err and "[[top.shape]]" in err
+    assert "kreisel presets --toml tippe" in err
+
+
+def test_play_help_lists_only_the_presets_play_takes():
+    from kreisel._presets import PRESETS
+
+    text = " ".join(kreisel("play", "--help").stdout.split())
+    listed = text.split("start from a built-in play top:", 1)[1].split("--t-end", 1)[0]
+    names = {n.strip() for n in listed.split(",")}
+    assert names == {n for n, p in PRESETS.items() if p.kind == "play"}
+    for n in names:  # and play takes each of them
+        assert PRESETS[n].kind == "play"

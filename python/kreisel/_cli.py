@@ -42,9 +42,10 @@ def _euler_options(f):
     ])  # fmt: skip
 
 
-def _run_options(f):
-    return _apply(f, [
-        _opt("--preset", "preset", f"start from a built-in top: {known_presets()}", type=str),
+def _run_options(kind):
+    return lambda f: _apply(f, [
+        _opt("--preset", "preset", f"start from a built-in {kind} top: {known_presets(kind)}",
+             type=str),
         _opt("--t-end", "t_end", "duration (s) [2; play 5; a preset's own]", type=float),
         _opt("--rtol", "rtol", "relative tolerance of dop853 [1e-10]", type=float),
         _opt("--atol", "atol", "absolute tolerance of dop853 [1e-12]", type=float),
@@ -113,7 +114,7 @@ def presets(as_toml):
 
 
 @cli.command(context_settings=_CONTEXT)
-@_run_options
+@_run_options("lagrange")
 @_opt("--method", "method", "integrate instead of the exact solution: dop853, rk4, splitting, "
       "splitting4, splitting6, verlet, midpoint, gauss4", type=str)  # fmt: skip
 @click.option("--exact", is_flag=True, help="the exact solution (the default without --method)")
@@ -134,7 +135,7 @@ def lagrange(**kw):
 
 
 @cli.command(context_settings=_CONTEXT)
-@_run_options
+@_run_options("heavy")
 @_opt("--method", "method", "dop853 [default], rk4, splitting, splitting4, splitting6, verlet, "
       "midpoint, gauss4", type=str)  # fmt: skip
 @_opt("--dt", "dt", "step (s) of a fixed-step method", type=float)
@@ -161,7 +162,7 @@ def heavy(**kw):
 
 
 @cli.command(context_settings=_CONTEXT)
-@_run_options
+@_run_options("play")
 @_opt("--vx", "vx", "horizontal velocity of the centre of mass, x (m/s) [0]", type=float)
 @_opt("--vy", "vy", "horizontal velocity of the centre of mass, y (m/s) [0]", type=float)
 @_opt("--height", "height", "drop from this gap between tip and floor (m) [in contact]",
@@ -280,7 +281,7 @@ def atlas(preset, out, **top):
                 )
         else:
             base = {"top": {"kind": "play"}, "state": {}, "simulation": {}}
-        tables = overlay(base, {"top": given, "state": {}, "simulation": {}})
+        tables = overlay(base, {"top": given, "state": {}, "simulation": {}}, preset)
         if preset is None:
             missing = [k for k in ("m", "A", "C", "s", "rho") if k not in given]
             if missing:
@@ -486,7 +487,7 @@ def _go(kind: str, top: dict, state: dict, sim: dict, kw: dict):
             )
     else:
         base = {"top": {"kind": kind}, "state": {}, "simulation": {}}
-    tables = overlay(base, {"top": top, "state": state, "simulation": sim})
+    tables = overlay(base, {"top": top, "state": state, "simulation": sim}, name)
     problem = from_tables(tables)
     problem.preset = name
     out = kw.pop("out") or Path("kreisel-out") / (name or kind)

@@ -164,7 +164,7 @@ def test_J_R_is_vectorised_and_nan_where_no_precession_exists():
     j = pt.J_R(u)
     assert j.shape == (2, 2)
     assert np.isfinite(j[0]).all() and np.isfinite(j[1, 0]) and np.isnan(j[1, 1])
-    # Outside the inclinations, an error (issue 19): u = cos(theta) lies in [-1, 1].
+    # Outside the inclinations, an error: u = cos(theta) lies in [-1, 1].
     for u in (1.2, -1.01, np.nan):
         with pytest.raises(kreisel.ParameterError, match="^u = "):
             pt.J_R(u)

@@ -1,4 +1,4 @@
-"""The defects a fuzz campaign found (issue 19), each as its reproducer, exactly as reported.
+"""The defects a fuzz campaign found, each as its reproducer, exactly as reported.
 
 Each call must end in a finite result, checked against an independent computation, or in a
 :class:`kreisel.ParameterError` that names the argument; never a crash, a panic or a NaN. The

@@ -616,7 +616,7 @@ def test_failed_runs_store_the_same_steps_wherever_they_failed(tmp_path):
     ],
 )
 def test_a_sweep_too_large_to_hold_is_refused_before_any_allocation(tmp_path, section, table):
-    """Issue 19 item 11: [grid] num = 1e12 used to allocate 7 TiB; the cap is checked on
+    """[grid] num = 1e12 used to allocate 7 TiB; the cap is checked on
     each axis before its values are made."""
     tables = play_spec(**{section: table})
     start = time.perf_counter()
@@ -627,7 +627,7 @@ def test_a_sweep_too_large_to_hold_is_refused_before_any_allocation(tmp_path, se
 
 
 def test_a_wrong_field_is_reported_before_nothing_is_swept(tmp_path):
-    """Issue 19 item 13: the field comes first."""
+    """The wrong field is named before anything else is checked."""
     tables = play_spec()
     tables.pop("grid", None)
     tables["top"].update(s=0.006, rho=1e-320)

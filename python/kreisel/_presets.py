@@ -20,7 +20,7 @@ _TOY_SLOW = 8.131813622444362
 # its axle (I1 = m R^2/4 + m l^2); steady precession at theta = pi/2 with omega3 = 600 rad/s.
 _GYRO = {"I1": 3.712e-4, "I3": 1.024e-4, "m": 0.2, "l": 0.04, "g": 9.81}
 _GYRO_RATE = 1.27734375
-# The tippe top of the peg issue: Leine and Glocker's (Eur. J. Mech. A/Solids 22 (2003) 193),
+# The tippe top with its peg: Leine and Glocker's (Eur. J. Mech. A/Solids 22 (2003) 193),
 # theory: bodies of revolution: a ball of 15 mm with a peg of 5 mm radius whose centre is 16 mm
 # from the
 # centre of mass, Coulomb-Contensou friction mu = 0.3 over a patch of 0.5 mm.

@@ -342,7 +342,7 @@ def test_a_missing_optional_package_is_named_with_how_to_install_it(monkeypatch)
     status, body = _asgi_get(create_app(8765), "/api/atlas", 8765)
     assert status == 501
     assert body["error"] == (
-        "this needs the package 'zarr', which is not installed: pip install 'kreisel[cli]'"
+        "this needs the package 'zarr', which is not installed: pip install 'kreisel[sweep]'"
     )
 
 

@@ -608,12 +608,9 @@ def main(argv=None) -> int:
     except ModuleNotFoundError as e:
         if e.name is None or e.name.split(".")[0] == "kreisel":
             raise
-        return _fail(
-            f"this needs the package {e.name!r}, which is not installed: "
-            "pip install 'kreisel[cli]'",
-            1,
-            command,
-        )
+        from ._extras import missing_message
+
+        return _fail(missing_message(e.name), 1, command)
     return rv if isinstance(rv, int) else 0
 
 

@@ -14,6 +14,7 @@ from starlette.routing import Mount, Route
 from starlette.staticfiles import StaticFiles
 
 from .._errors import KreiselError, ParameterError
+from .._extras import missing_message
 from . import _api
 from ._guard import BodyTooLarge, LoopbackGuard
 
@@ -59,8 +60,7 @@ def create_app(port: int, store: Path | None = None) -> LoopbackGuard:
                 # sweeps need zarr, NetCDF needs xarray: optional dependencies
                 if e.name is None or e.name.split(".")[0] == "kreisel":
                     raise
-                message = f"this needs the package {e.name!r}, which is not installed: "
-                return JSONResponse({"error": message + "pip install 'kreisel[cli]'"}, 501)
+                return JSONResponse({"error": missing_message(e.name)}, 501)
             return result if isinstance(result, Response) else JSONResponse(result)
 
         return endpoint

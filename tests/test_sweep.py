@@ -477,6 +477,32 @@ def test_command_line_writes_store_and_figure_and_resumes(tmp_path, capsys):
     assert "s is an empty grid" in capsys.readouterr().err
 
 
+def test_the_command_line_shows_a_store_as_its_path_and_names_its_own_flag(tmp_path, capsys):
+    """Not PosixPath('...') and not the library's overwrite=True alone: the path as given,
+    and the command line's --overwrite."""
+    from kreisel._cli import main
+
+    spec = tmp_path / "tiny.toml"
+    spec.write_text(SPEC_TOML.replace("num = 3", "num = 1").replace("[0.004, 0.008]", "[0.006]")
+                    .replace("t_end = 2.5", "t_end = 0.05"))  # fmt: skip
+    store = tmp_path / "out.zarr"
+    assert main(["sweep", str(spec), "--store", str(store), "--quiet", "--no-figure"]) == 0
+    capsys.readouterr()
+    spec.write_text(spec.read_text().replace("theta = 3.0", "theta = 2.9"))
+    assert main(["sweep", str(spec), "--store", str(store), "--quiet", "--no-figure"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "PosixPath" not in err
+    assert f"store = {str(store)!r} holds another sweep" in err
+    assert "--overwrite" in err
+    assert main(["sweep", str(spec), "--store", str(store), "--quiet", "--no-figure",
+                 "--overwrite"]) == 0  # fmt: skip
+    (tmp_path / "foreign").mkdir()
+    (tmp_path / "foreign" / "x.txt").write_text("mine")
+    assert main(["sweep", str(spec), "--store", str(tmp_path / "foreign"), "--quiet"]) == 2
+    err = capsys.readouterr().err
+    assert "PosixPath" not in err and repr(str(tmp_path / "foreign")) in err
+
+
 def test_figures_of_grids_samples_and_modes(tmp_path):
     import matplotlib
 

@@ -3,8 +3,9 @@
 
 Figure and animation (GIF): the toy top of ``kreisel.bodies.toy_top`` (a 5 cm solid cone on a
 1 mm tip with a handle; Coulomb-Contensou friction mu = 0.3 over a 0.2 mm patch; rolling
-resistance 0.1 mm) released 0.3 rad off the vertical at 120 rad/s, below its sleeping
-threshold of about 127 rad/s (C^2 w^2 = 4 A_tip m g l about the tip).
+resistance 0.1 mm) released 0.3 rad off the vertical at 120 rad/s, below Routh's sleeping
+threshold of about 127 rad/s (C^2 w^2 = 4 A_tip m g l about the tip; with its friction it tips
+slowly up to about 201 rad/s, see ``kreisel.bodies.toy_top``).
 
     python examples/toy_top_life.py [OUT_DIR]
 

@@ -1,6 +1,8 @@
 """Sphinx configuration of kreisel's documentation site (``make docs``).
 
-The build needs no network: no intersphinx, no remote images. The table of integration
+The build needs no network and the site loads nothing from it: no intersphinx, no remote
+images, and MathJax (the maths renderer, from npm through web/package.json) is served from the
+site itself (docs/_vendor/mathjax, copied there by `make docs`). The table of integration
 methods is written here from ``kreisel.methods()``, the gallery runs every script in
 ``examples/`` and the tutorials are executed as notebooks.
 """
@@ -15,7 +17,6 @@ import kreisel
 
 DOCS = pathlib.Path(__file__).resolve().parent
 ROOT = DOCS.parent
-sys.path.insert(0, str(ROOT / "examples"))  # the gallery scripts import _common
 os.environ.setdefault("MPLBACKEND", "Agg")
 
 project = "kreisel"
@@ -28,6 +29,8 @@ extensions = [
     "sphinx.ext.autodoc",
     "sphinx.ext.autosummary",
     "sphinx.ext.mathjax",
+    "sphinx.ext.viewcode",
+    "sphinx_copybutton",
     "numpydoc",
     "sphinx_gallery.gen_gallery",
     "myst_nb",
@@ -43,6 +46,18 @@ exclude_patterns = [
 templates_path = ["_templates"]
 source_suffix = {".rst": "restructuredtext", ".md": "myst-nb"}
 intersphinx_mapping = {}  # the build needs no network
+
+# -- maths: MathJax 3 from the site itself ------------------------------------------------
+# `make docs` copies MathJax's tex-svg-full.js (npm, pinned in web/package-lock.json) into
+# docs/_vendor/mathjax; html_static_path serves it as _static/mathjax/. SVG output: no fonts
+# to fetch; "full": every TeX extension is in the one file, none is loaded on demand.
+if not (DOCS / "_vendor" / "mathjax" / "tex-svg-full.js").is_file():
+    raise RuntimeError("MathJax is missing from docs/_vendor/mathjax: build with `make docs`")
+mathjax_path = "mathjax/tex-svg-full.js"
+
+# -- copy buttons on code blocks: copy the code, not the prompts ---------------------------
+copybutton_prompt_text = r">>> |\.\.\. |\$ "
+copybutton_prompt_is_regexp = True
 
 # -- API reference -------------------------------------------------------------------------
 autosummary_generate = True
@@ -103,7 +118,7 @@ for _m in kreisel.methods():
 # -- HTML ----------------------------------------------------------------------------------
 html_theme = "pydata_sphinx_theme"
 html_title = f"kreisel {release}"
-html_static_path: list[str] = []
+html_static_path = ["_vendor"]  # MathJax (see above)
 html_theme_options = {
     "navigation_with_keys": False,
     "show_toc_level": 2,

@@ -12,7 +12,7 @@ It turns over on its ball, the peg touches at 1.37 s and the ball leaves the flo
 instant; it spins on its peg while the drilling friction wears its spin down, falls back
 when the spin drops below the peg's sleeping threshold (J below J_R(1) of the one-sphere
 theory applied to the peg, the dotted line), rocks between ball and peg, rests on both (the
-seed's critical moment) and ends on its ball. Writes tippe_top_peg.png.
+critical moment of a top with a peg) and ends on its ball. Writes tippe_top_peg.png.
 """
 
 import sys

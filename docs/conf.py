@@ -93,6 +93,8 @@ sphinx_gallery_conf = {
     "plot_gallery": "True",
     "show_memory": False,
     "matplotlib_animations": False,
+    # no page of execution times: sphinx-gallery's loads its tables' scripts from CDNs
+    "write_computation_times": False,
 }
 
 # -- generated tables ----------------------------------------------------------------------

@@ -516,3 +516,24 @@ def test_the_atlas_reports_each_figure_it_draws(tmp_path):
     proc = kreisel("atlas", "--preset", "tippe-ball", "--out", tmp_path / "a")
     for name in ("atlas.png", "vertical_axis.png", "J_R.png"):
         assert f"kreisel atlas: drawing {name} (" in proc.stderr
+
+
+@pytest.mark.parametrize("name", [n for n, p in _PRESETS.items() if "shape" in p.top])
+def test_the_explorers_toml_export_of_a_top_of_parts_reruns_it(name, tmp_path):
+    """The explorer's "Download TOML" (kreisel.explore._api.toml) of a preset made of parts
+    is valid TOML that kreisel run turns into the same run as the page's."""
+    import tomllib
+
+    from kreisel._config import from_tables, preset, read_toml
+    from kreisel._run import compute
+    from kreisel.explore import _api
+
+    page = _api.problem(preset(name))
+    text = _api.toml(page)
+    tomllib.loads(text)
+    path = tmp_path / "export.toml"
+    path.write_text(text)
+    again = compute(from_tables(read_toml(path), prefix="table"))
+    run = compute(page)
+    for column in run.columns:
+        np.testing.assert_array_equal(again[column], run[column], err_msg=column)

@@ -659,3 +659,22 @@ def test_a_wrong_field_is_reported_before_nothing_is_swept(tmp_path):
     tables["top"].update(s=0.006, rho=1e-320)
     with pytest.raises(kreisel.ParameterError, match=r"rho = 1e-320"):
         kreisel.sweep(tables, tmp_path / "x.zarr", progress=False)
+
+
+def test_a_sweep_without_progress_does_not_load_tqdm_auto():
+    """tqdm.auto warns in a notebook without ipywidgets (the tutorials showed the build
+    machine's path in that warning) even when no bar is shown: without progress it is not
+    imported."""
+    code = (
+        "import sys, kreisel\n"
+        "kreisel.sweep({'top': {'preset': 'tippe-ball'}, 'simulation': {'t_end': 0.01},"
+        " 'grid': {'s': [0.004, 0.006]}}, None, progress=False)\n"
+        "print('tqdm.auto' in sys.modules)\n"
+    )
+    import subprocess
+    import sys
+
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          timeout=120)  # fmt: skip
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.strip() == "False"

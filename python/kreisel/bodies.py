@@ -105,7 +105,7 @@ def disk(
     - with ``rolling_resistance=2e-3`` (the preset ``euler-disk``) rolling resistance does it:
       flat at 0.963 s with Coulomb-Contensou and at 0.965 s with point Coulomb friction;
       drilling takes at most 0.52 % of the energy dissipated (its bound (2/3) mu N r_patch
-      |omega_z| integrated over the run).
+      abs(omega_z) integrated over the run).
 
     Examples
     --------

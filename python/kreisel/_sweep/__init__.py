@@ -142,7 +142,11 @@ def sweep(
     [1, 1, 1]
     """
     import zarr
-    from tqdm.auto import tqdm
+
+    if progress:
+        from tqdm.auto import tqdm
+    else:  # tqdm.auto warns in a notebook without ipywidgets, even for a bar never shown
+        from tqdm.std import tqdm
 
     from .._batch import _threads
 

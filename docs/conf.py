@@ -1,10 +1,11 @@
 """Sphinx configuration of kreisel's documentation site (``make docs``).
 
-The build needs no network and the site loads nothing from it: no intersphinx, no remote
-images, and MathJax (the maths renderer, from npm through web/package.json) is served from the
-site itself (docs/_vendor/mathjax, copied there by `make docs`). The table of integration
-methods is written here from ``kreisel.methods()``, the gallery runs every script in
-``examples/`` and the tutorials are executed as notebooks.
+The build needs no network and the site loads nothing from it: the intersphinx inventories
+are in docs/_inventories, there are no remote images, and MathJax (the maths renderer, from
+npm through web/package.json) is served from the site itself (docs/_vendor/mathjax, copied
+there by `make docs`). The table of integration methods is written here from
+``kreisel.methods()``, the gallery runs every script in ``examples/`` and the tutorials are
+executed as notebooks.
 """
 
 from __future__ import annotations
@@ -30,6 +31,7 @@ extensions = [
     "sphinx.ext.autosummary",
     "sphinx.ext.mathjax",
     "sphinx.ext.viewcode",
+    "sphinx.ext.intersphinx",
     "sphinx_copybutton",
     "numpydoc",
     "sphinx_gallery.gen_gallery",
@@ -39,13 +41,21 @@ extensions = [
 exclude_patterns = [
     "_build",
     "_generated",
+    "_inventories",
+    "_vendor",
     "jupyter_execute",
     "**.ipynb_checkpoints",
     "auto_examples/*.ipynb",  # sphinx-gallery writes notebooks for download, not for myst-nb
 ]
 templates_path = ["_templates"]
 source_suffix = {".rst": "restructuredtext", ".md": "myst-nb"}
-intersphinx_mapping = {}  # the build needs no network
+# Links to SciPy and pandas from inventories shipped in docs/_inventories (Debian's
+# documentation packages; see the README there): the build fetches nothing.
+intersphinx_mapping = {
+    "scipy": ("https://docs.scipy.org/doc/scipy-1.10.1/", "_inventories/scipy-1.10.1.inv"),
+    "pandas": ("https://pandas.pydata.org/pandas-docs/version/1.5.3/",
+               "_inventories/pandas-1.5.3.inv"),
+}  # fmt: skip
 
 # -- maths: MathJax 3 from the site itself ------------------------------------------------
 # `make docs` copies MathJax's tex-svg-full.js (npm, pinned in web/package-lock.json) into

@@ -140,3 +140,23 @@ def test_a_downloaded_zip_holds_the_script_and_notebook_and_runs(tmp_path):
     script = next((tmp_path / "unzipped").rglob("*.py"))
     proc = _run_alone(script, tmp_path)
     assert proc.returncode == 0, proc.stderr[-3000:]
+
+
+def test_intersphinx_links_come_from_the_shipped_inventories():
+    """pandas and SciPy names link to those projects' documentation (inventories shipped in
+    docs/_inventories: the build fetches nothing)."""
+    trajectory = (SITE / "api" / "generated" / "kreisel.Trajectory.html").read_text()
+    assert "https://pandas.pydata.org/pandas-docs/version/1.5.3/" in trajectory
+    special = (SITE / "api" / "special.html").read_text()
+    assert "https://docs.scipy.org/doc/scipy-1.10.1/" in special
+
+
+def test_pages_have_copy_buttons_source_links_and_the_changelog():
+    assert "copybutton.js" in (SITE / "index.html").read_text()
+    assert (SITE / "_modules" / "kreisel" / "bodies.html").is_file()  # [source] links
+    assert "viewcode-link" in (SITE / "api" / "bodies.html").read_text()
+    changelog = (SITE / "changelog.html").read_text()
+    assert "Unreleased" in changelog and "architecture" in (SITE / "index.html").read_text()
+    architecture = (SITE / "architecture.html").read_text()
+    for layer in ("crates/kreisel-core", "crates/kreisel-py", "python/kreisel"):
+        assert layer in architecture

@@ -15,6 +15,8 @@ from ._plot_quantum import classical_vs_quantum, spectrum, stark_map  # noqa: F4
 from ._plot_sweep import sweep  # noqa: F401
 
 if TYPE_CHECKING:
+    from collections.abc import Sequence
+
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
     from mpl_toolkits.mplot3d import Axes3D
@@ -137,8 +139,13 @@ def shade_modes(ax: Axes, traj: Trajectory) -> Axes:
 
 
 def parts_panels(
-    axes, traj: Trajectory, colours: dict, names, weight: float, legend: str = "upper right"
-):
+    axes: Sequence[Axes],
+    traj: Trajectory,
+    colours: dict[tuple[bool, ...], str],
+    names: Sequence[str],
+    weight: float,
+    legend: str = "upper right",
+) -> Sequence[Axes]:
     """Four panels of a top of several parts against t (a column of four axes, ``axes``):
     u; the normal force of each part in ``names`` with the weight ``weight`` (N) as a line;
     ``|omega_3|``; the energy with E + dissipated (mJ). Behind every panel, the times when

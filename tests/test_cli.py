@@ -483,11 +483,13 @@ def test_the_other_preset_descriptions_say_what_their_runs_do(tmp_path):
     assert a["motion"] == "regular_precession" and a["theta_max"] - a["theta_min"] < 1e-12
 
 
-def test_the_readme_lists_every_preset():
-    readme = (Path(__file__).parents[1] / "README.md").read_text()
+@pytest.mark.parametrize("page", ["README.md", "docs/guide/cli.md"])
+def test_the_readme_and_the_guide_list_every_preset(page):
     import re
 
-    block = re.search(r"kreisel presets +# (.*?)\n +kreisel atlas", readme, flags=re.S).group(1)
+    text = (Path(__file__).parents[1] / page).read_text()
+    block = re.search(r"kreisel presets +# (.*?)\n +kreisel (?:atlas|lagrange)", text,
+                      flags=re.S).group(1)  # fmt: skip
     listed = {n.strip(" ,#\n") for n in re.split(r"[,\n]", block) if n.strip(" ,#\n")}
     assert listed == set(_PRESETS)
 

@@ -529,7 +529,7 @@ class _Progress:
             return
         before, self.done = self.done, min(self.done + n, self.length)
         if stage is not None and stage != self.stage:
-            self.stage, self.stage_start = stage, before
+            self.stage = stage
             self._line(stage)
         elif self.stage is not None and self.length >= 20:
             tenth = self.length / 10

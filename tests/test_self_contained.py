@@ -17,7 +17,7 @@ OUTSIDE = re.compile(
 # Comments of the Rust core that still cite the seed; the core is another engineer's to change
 # (crates/ is outside this change). They are listed exactly: a new one fails.
 KNOWN = {
-    ("crates/kreisel-core/src/models/lagrange/mod.rs", "/// (The seed's \"full\" form subtracts"),
+    ("crates/kreisel-core/src/models/lagrange/mod.rs", '/// (The seed\'s "full" form subtracts'),
     ("crates/kreisel-core/src/models/heavy_top/verlet.rs", "//! the route the seed proposes."),
     ("crates/kreisel-core/src/models/heavy_top/verlet.rs", "/// psi), for the general-purpose"),
     ("crates/kreisel-core/src/stability/play_top.rs", "/// The top types of the seed's Fig. 6."),

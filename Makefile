@@ -40,6 +40,17 @@ $(VENDOR_STAMP): web/package.json web/package-lock.json
 	cp web/node_modules/uplot/LICENSE $(VENDOR)/LICENSE-uplot
 	touch $@
 
+# The maths renderer of the documentation site, MathJax 3 (SVG output: no web fonts to load),
+# pinned by web/package-lock.json like the page's JavaScript and copied next to the site's
+# sources (docs/_vendor, not in git): the site renders every formula with no network.
+DOCS_VENDOR       := docs/_vendor/mathjax
+DOCS_VENDOR_STAMP := $(DOCS_VENDOR)/.installed
+$(DOCS_VENDOR_STAMP): $(VENDOR_STAMP)
+	mkdir -p $(DOCS_VENDOR)
+	cp web/node_modules/mathjax/es5/tex-svg-full.js $(DOCS_VENDOR)/
+	cp web/node_modules/mathjax/LICENSE $(DOCS_VENDOR)/LICENSE-mathjax
+	touch $@
+
 # The browser tests of `kreisel explore` drive Debian's Chromium headless (Selenium with
 # Debian's chromedriver: no browser is downloaded at run time).
 browser:
@@ -106,7 +117,7 @@ $(DOCS_DEPS): requirements-docs.txt | $(DEPS)
 	$(PY) -m pip install --quiet -r requirements-docs.txt
 	touch $@
 
-docs: $(EXT) $(VENDOR_STAMP) $(DOCS_DEPS)
+docs: $(EXT) $(VENDOR_STAMP) $(DOCS_VENDOR_STAMP) $(DOCS_DEPS)
 	MPLBACKEND=Agg $(VENV)/bin/sphinx-build -W --keep-going -b html docs docs/_build/html
 
 lint: $(DEPS)
@@ -122,4 +133,4 @@ fmt: $(DEPS)
 
 clean:
 	rm -rf $(VENV) target kreisel-out docs/_build docs/auto_examples docs/api/generated \
-		web/node_modules $(VENDOR)
+		web/node_modules $(VENDOR) docs/_vendor examples/kreisel-out

@@ -2,7 +2,7 @@
 
     python benchmarks/bench_play.py [--rounds R] [--t-end T]
 
-The tippe top of BENCHMARKS.md case T1 (m = 0.02 kg, rho = 0.02 m, s = 0.006 m, C = 0.4 m
+The tippe top of docs/benchmarks.md case T1 (m = 0.02 kg, rho = 0.02 m, s = 0.006 m, C = 0.4 m
 rho^2, A = 0.8 C, viscous friction: tangential force -mu N v_T with mu = 1 s/m), started at
 theta = pi - 0.1 with psi_dot = 150 rad/s and everything else zero, is integrated for 12 s
 with rtol = 1e-9, atol = 1e-12 by kreisel.simulate (DOP853, every accepted step returned)

@@ -2,7 +2,7 @@
 
     python benchmarks/bench_tippe_mujoco.py [--repeats R] [--t-end T]
 
-The body of MuJoCo's tutorial "self-inverting tippe top" (BENCHMARKS.md case T2): a sphere
+The body of MuJoCo's tutorial "self-inverting tippe top" (docs/benchmarks.md case T2): a sphere
 of radius 0.02 m (the only colliding geom), a cylinder stem (radius 0.004 m, half-length
 0.008 m, centred 0.02 m above the sphere centre) and a ballast box (half-sizes 0.023, 0.023,
 0.005 m, centred 0.015 m below), density 1000 kg/m^3, sliding friction 1, free joint, RK4

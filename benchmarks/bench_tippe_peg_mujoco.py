@@ -8,7 +8,7 @@ a ballast box, density 1000 kg/m^3), but the stem collides as a capsule (radius 
 half-length 0.008 m, centred 0.02 m above the sphere centre: its end is a sphere of radius
 0.004 m whose centre is 0.028 m from the ball's centre); the ballast box does not collide.
 MuJoCo: condim 4 (torsional friction), an elliptic cone, friction "0.3 8.8e-5 0.0001", RK4 with
-a 2 ms step, 7 s, start as in T2 (BENCHMARKS.md case T3). m, the centre of mass and the inertia
+a 2 ms step, 7 s, start as in T2 (docs/benchmarks.md case T3). m, the centre of mass and the inertia
 are read from MuJoCo's compiled model.
 
 kreisel: the same body as two spheres, ball Sphere(0.02, z=-s) and peg Sphere(0.004,

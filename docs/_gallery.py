@@ -2,26 +2,30 @@
 Sphinx can cache its configuration).
 
 Each script in examples/ writes its figure or animation into the folder given as its first
-argument (examples/_common.py). The gallery gives it a fresh folder and shows what it wrote:
-PNG and GIF files as images, MP4 and HTML files as downloads.
+argument. The gallery gives it a fresh folder, kreisel-out/NAME, relative to examples/ (where
+sphinx-gallery runs it), so that the output the pages show reads as a user's run would, with
+no path of the build machine in it; it shows what the script wrote: PNG and GIF files as
+images, MP4 and HTML files as downloads.
 """
 
 from __future__ import annotations
 
 import pathlib
 import shutil
-import tempfile
 
-OUT = pathlib.Path(tempfile.mkdtemp(prefix="kreisel-gallery-"))
+EXAMPLES = pathlib.Path(__file__).resolve().parents[1] / "examples"
+OUT = pathlib.Path("kreisel-out")  # relative to examples/, the folder the scripts run in
 
 
 def _out(src_file) -> pathlib.Path:
-    return OUT / pathlib.Path(src_file).stem
+    return EXAMPLES / OUT / pathlib.Path(src_file).stem
 
 
 def argv(gallery_conf, script_vars):
-    """The script's command line: its own output folder."""
-    return [str(_out(script_vars["src_file"]))]
+    """The script's command line: its own output folder, emptied."""
+    stem = pathlib.Path(script_vars["src_file"]).stem
+    shutil.rmtree(_out(script_vars["src_file"]), ignore_errors=True)
+    return [str(OUT / stem)]
 
 
 def written_files(block, block_vars, gallery_conf):

@@ -1,8 +1,11 @@
 """Sphinx configuration of kreisel's documentation site (``make docs``).
 
-The build needs no network: no intersphinx, no remote images. The table of integration
-methods is written here from ``kreisel.methods()``, the gallery runs every script in
-``examples/`` and the tutorials are executed as notebooks.
+The build needs no network and the site loads nothing from it: the intersphinx inventories
+are in docs/_inventories, there are no remote images, and MathJax (the maths renderer, from
+npm through web/package.json) is served from the site itself (docs/_vendor/mathjax, copied
+there by `make docs`). The table of integration methods is written here from
+``kreisel.methods()``, the gallery runs every script in ``examples/`` and the tutorials are
+executed as notebooks.
 """
 
 from __future__ import annotations
@@ -15,7 +18,6 @@ import kreisel
 
 DOCS = pathlib.Path(__file__).resolve().parent
 ROOT = DOCS.parent
-sys.path.insert(0, str(ROOT / "examples"))  # the gallery scripts import _common
 os.environ.setdefault("MPLBACKEND", "Agg")
 
 project = "kreisel"
@@ -28,6 +30,9 @@ extensions = [
     "sphinx.ext.autodoc",
     "sphinx.ext.autosummary",
     "sphinx.ext.mathjax",
+    "sphinx.ext.viewcode",
+    "sphinx.ext.intersphinx",
+    "sphinx_copybutton",
     "numpydoc",
     "sphinx_gallery.gen_gallery",
     "myst_nb",
@@ -36,13 +41,33 @@ extensions = [
 exclude_patterns = [
     "_build",
     "_generated",
+    "_inventories",
+    "_vendor",
     "jupyter_execute",
     "**.ipynb_checkpoints",
     "auto_examples/*.ipynb",  # sphinx-gallery writes notebooks for download, not for myst-nb
 ]
 templates_path = ["_templates"]
 source_suffix = {".rst": "restructuredtext", ".md": "myst-nb"}
-intersphinx_mapping = {}  # the build needs no network
+# Links to SciPy and pandas from inventories shipped in docs/_inventories (Debian's
+# documentation packages; see the README there): the build fetches nothing.
+intersphinx_mapping = {
+    "scipy": ("https://docs.scipy.org/doc/scipy-1.10.1/", "_inventories/scipy-1.10.1.inv"),
+    "pandas": ("https://pandas.pydata.org/pandas-docs/version/1.5.3/",
+               "_inventories/pandas-1.5.3.inv"),
+}  # fmt: skip
+
+# -- maths: MathJax 3 from the site itself ------------------------------------------------
+# `make docs` copies MathJax's tex-svg-full.js (npm, pinned in web/package-lock.json) into
+# docs/_vendor/mathjax; html_static_path serves it as _static/mathjax/. SVG output: no fonts
+# to fetch; "full": every TeX extension is in the one file, none is loaded on demand.
+if not (DOCS / "_vendor" / "mathjax" / "tex-svg-full.js").is_file():
+    raise RuntimeError("MathJax is missing from docs/_vendor/mathjax: build with `make docs`")
+mathjax_path = "mathjax/tex-svg-full.js"
+
+# -- copy buttons on code blocks: copy the code, not the prompts ---------------------------
+copybutton_prompt_text = r">>> |\.\.\. |\$ "
+copybutton_prompt_is_regexp = True
 
 # -- API reference -------------------------------------------------------------------------
 autosummary_generate = True
@@ -78,6 +103,8 @@ sphinx_gallery_conf = {
     "plot_gallery": "True",
     "show_memory": False,
     "matplotlib_animations": False,
+    # no page of execution times: sphinx-gallery's loads its tables' scripts from CDNs
+    "write_computation_times": False,
 }
 
 # -- generated tables ----------------------------------------------------------------------
@@ -103,7 +130,7 @@ for _m in kreisel.methods():
 # -- HTML ----------------------------------------------------------------------------------
 html_theme = "pydata_sphinx_theme"
 html_title = f"kreisel {release}"
-html_static_path: list[str] = []
+html_static_path = ["_vendor"]  # MathJax (see above)
 html_theme_options = {
     "navigation_with_keys": False,
     "show_toc_level": 2,

@@ -78,7 +78,8 @@ def draw(ax, rows, dx):
 
 
 def main(argv=None) -> pathlib.Path:
-    argv = sys.argv[1:] if argv is None else argv
+    # the script's arguments (none in a notebook, whose kernel has its own)
+    argv = (sys.argv[1:] if "ipykernel" not in sys.modules else []) if argv is None else argv
     full = "--full" in argv
     paths = [a for a in argv if a != "--full"]
     out = pathlib.Path(paths[0]) if paths else pathlib.Path("kreisel-out")

@@ -9,14 +9,18 @@ The toy top released at rest in theta and phi at theta = 0.6 rad, spun at 300 ra
 one turn of its mean precession (0.84 s). Writes axis_on_sphere.png.
 """
 
+import sys
+from pathlib import Path
+
+import matplotlib.pyplot as plt
 import numpy as np
-from _common import out_dir, pyplot
 
 import kreisel
 import kreisel.plot
 
-plt = pyplot()
-out = out_dir()
+# the output folder: the script's one argument, else kreisel-out/ (also in a notebook)
+out = Path(sys.argv[1] if len(sys.argv) == 2 else "kreisel-out")
+out.mkdir(parents=True, exist_ok=True)
 top = kreisel.LagrangeTop(I1=1.75e-4, I3=2.0e-5, m=0.1, l=0.04)
 st = top.state(0.6, psi_dot=300.0)
 turn = 2 * np.pi / top.mean_precession_rate(st)

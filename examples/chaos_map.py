@@ -16,7 +16,8 @@ import matplotlib.pyplot as plt
 import kreisel
 from kreisel import plot
 
-out = Path(sys.argv[1] if len(sys.argv) > 1 else "kreisel-out")
+# the output folder: the script's one argument, else kreisel-out/ (also in a notebook)
+out = Path(sys.argv[1] if len(sys.argv) == 2 else "kreisel-out")
 out.mkdir(parents=True, exist_ok=True)
 spec = {
     "top": {"kind": "heavy", "I1": 2.0, "I3": 1.0, "m": 1.0, "g": 1.0},

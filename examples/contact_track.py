@@ -11,13 +11,17 @@ friction mu = 0.05, released at theta = 0.3 rad with spin 300 rad/s: it hops, sl
 rises to the vertical. Writes contact_track.png.
 """
 
-from _common import out_dir, pyplot
+import sys
+from pathlib import Path
+
+import matplotlib.pyplot as plt
 
 import kreisel
 import kreisel.plot
 
-plt = pyplot()
-out = out_dir()
+# the output folder: the script's one argument, else kreisel-out/ (also in a notebook)
+out = Path(sys.argv[1] if len(sys.argv) == 2 else "kreisel-out")
+out.mkdir(parents=True, exist_ok=True)
 top = kreisel.PlayTop(m=0.1, A=1.6e-5, C=2e-5, s=0.03, rho=0.01, friction=kreisel.Coulomb(0.05))
 run = kreisel.simulate(top, top.state(theta=0.3, phi_dot=6.5, psi_dot=300.0), 3.0)
 fig, ax = plt.subplots(figsize=(6.5, 6.5))

@@ -18,14 +18,18 @@ time, then spins down on its face and rests (the event "rest" ends the run). Wri
 euler_disk.png.
 """
 
+import sys
+from pathlib import Path
+
+import matplotlib.pyplot as plt
 import numpy as np
-from _common import out_dir, pyplot
 
 import kreisel
 from kreisel import bodies
 
-plt = pyplot()
-out = out_dir()
+# the output folder: the script's one argument, else kreisel-out/ (also in a notebook)
+out = Path(sys.argv[1] if len(sys.argv) == 2 else "kreisel-out")
+out.mkdir(parents=True, exist_ok=True)
 a, h, m = 0.0375, 0.0125, 0.4335
 patch = 1e-4 * 16 / (3 * np.pi * 0.3)  # mu 3 pi R / 16 = 0.1 mm, as benchmark T4
 disk = bodies.disk(a, h, m, friction=kreisel.CoulombContensou(0.3, patch),

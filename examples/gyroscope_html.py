@@ -10,13 +10,17 @@ started in steady precession (1.28 rad/s): one precession turn, 60 frames. The f
 includes plotly.js and opens offline. Writes gyroscope.html.
 """
 
+import sys
+from pathlib import Path
+
 import numpy as np
-from _common import out_dir
 
 import kreisel
 import kreisel.animate
 
-out = out_dir()
+# the output folder: the script's one argument, else kreisel-out/ (also in a notebook)
+out = Path(sys.argv[1] if len(sys.argv) == 2 else "kreisel-out")
+out.mkdir(parents=True, exist_ok=True)
 top = kreisel.LagrangeTop(I1=3.712e-4, I3=1.024e-4, m=0.2, l=0.04)
 rate = top.steady_precession(np.pi / 2, 600.0)[0]
 st = top.state(np.pi / 2, phi_dot=rate, psi_dot=600.0)

@@ -46,7 +46,8 @@ RUNS = (  # method, dt, label, colour
 
 
 def main(argv=None) -> pathlib.Path:
-    argv = sys.argv[1:] if argv is None else argv
+    # the script's arguments (none in a notebook, whose kernel has its own)
+    argv = (sys.argv[1:] if "ipykernel" not in sys.modules else []) if argv is None else argv
     out = pathlib.Path(argv[0]) if argv else pathlib.Path("kreisel-out")
     if out.suffix != ".png":
         out = out / "invariant_drift.png"

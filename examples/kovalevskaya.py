@@ -11,14 +11,18 @@ equatorial plane; from q = (1, 0.2, 0, 0), omega = (1, -2, 3) rad/s; 20 s at dt 
 Writes kovalevskaya.png.
 """
 
+import sys
+from pathlib import Path
+
+import matplotlib.pyplot as plt
 import numpy as np
-from _common import out_dir, pyplot
 
 import kreisel
 import kreisel.plot
 
-plt = pyplot()
-out = out_dir()
+# the output folder: the script's one argument, else kreisel-out/ (also in a notebook)
+out = Path(sys.argv[1] if len(sys.argv) == 2 else "kreisel-out")
+out.mkdir(parents=True, exist_ok=True)
 top = kreisel.HeavyTop(I1=2e-3, I2=2e-3, I3=1e-3, m=0.5, com=[0.02, 0.0, 0.0])
 st = top.state_from_quaternion([1.0, 0.2, 0.0, 0.0], omega=[1.0, -2.0, 3.0])
 run = kreisel.simulate(top, st, 20.0, method="splitting6", dt=1e-3, t_eval=np.linspace(0, 20, 4001))

@@ -10,14 +10,17 @@ second: nutation and precession rates, the spin, and the energy shared between k
 potential parts. Writes lagrange_time_series.png.
 """
 
+import sys
+from pathlib import Path
+
 import numpy as np
-from _common import out_dir, pyplot
 
 import kreisel
 import kreisel.plot
 
-plt = pyplot()
-out = out_dir()
+# the output folder: the script's one argument, else kreisel-out/ (also in a notebook)
+out = Path(sys.argv[1] if len(sys.argv) == 2 else "kreisel-out")
+out.mkdir(parents=True, exist_ok=True)
 top = kreisel.LagrangeTop(I1=1.75e-4, I3=2.0e-5, m=0.1, l=0.04)
 st = top.state(0.6, phi_dot=-4.07, psi_dot=300.0)
 fig = kreisel.plot.rigid_time_series(top.exact(st, np.linspace(0, 1, 4001)))

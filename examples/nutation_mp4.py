@@ -11,13 +11,17 @@ far faster than the frame rate, so the stripes jump as under a stroboscope. Writ
 nutation.mp4.
 """
 
+import sys
+from pathlib import Path
+
 import numpy as np
-from _common import out_dir
 
 import kreisel
 import kreisel.animate
 
-out = out_dir()
+# the output folder: the script's one argument, else kreisel-out/ (also in a notebook)
+out = Path(sys.argv[1] if len(sys.argv) == 2 else "kreisel-out")
+out.mkdir(parents=True, exist_ok=True)
 top = kreisel.LagrangeTop(I1=1.75e-4, I3=2.0e-5, m=0.1, l=0.04)
 st = top.state(0.6, phi_dot=-4.07, psi_dot=300.0)
 traj = top.exact(st, np.linspace(0.0, 0.5, 1001))

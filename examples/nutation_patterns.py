@@ -11,14 +11,18 @@ theta = 0.6 rad with spin 300 rad/s and phi_dot = 0.3 Omega_slow (waves), 0 (cus
 solution over one second. Writes nutation_patterns.png.
 """
 
+import sys
+from pathlib import Path
+
+import matplotlib.pyplot as plt
 import numpy as np
-from _common import out_dir, pyplot
 
 import kreisel
 import kreisel.plot
 
-plt = pyplot()
-out = out_dir()
+# the output folder: the script's one argument, else kreisel-out/ (also in a notebook)
+out = Path(sys.argv[1] if len(sys.argv) == 2 else "kreisel-out")
+out.mkdir(parents=True, exist_ok=True)
 top = kreisel.LagrangeTop(I1=1.75e-4, I3=2.0e-5, m=0.1, l=0.04)
 slow = top.steady_precession(0.6, 300.0)[0]
 t = np.linspace(0.0, 1.0, 4001)

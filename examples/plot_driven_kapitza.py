@@ -21,16 +21,19 @@ its precession lets it sink, and it falls. Writes plot_driven_kapitza.png.
 """
 
 import math
+import sys
+from pathlib import Path
 
+import matplotlib.pyplot as plt
 import numpy as np
-from _common import out_dir, pyplot
 
 import kreisel
 import kreisel.plot
 from kreisel import pivots
 
-plt = pyplot()
-out = out_dir()
+# the output folder: the script's one argument, else kreisel-out/ (also in a notebook)
+out = Path(sys.argv[1] if len(sys.argv) == 2 else "kreisel-out")
+out.mkdir(parents=True, exist_ok=True)
 fig, axes = plt.subplots(2, 2, figsize=(11, 8.5))
 
 # -- stroboscopic sections of the shaken top -----------------------------------------------

@@ -14,14 +14,18 @@ semiclassical (EBK) levels from the actions of the classical Lagrange top, and t
 difference falling with J. Writes quantum_stark.png.
 """
 
+import sys
+from pathlib import Path
+
+import matplotlib.pyplot as plt
 import numpy as np
-from _common import out_dir, pyplot
 
 import kreisel.plot
 from kreisel.quantum import SymmetricTop
 
-plt = pyplot()
-out = out_dir()
+# the output folder: the script's one argument, else kreisel-out/ (also in a notebook)
+out = Path(sys.argv[1] if len(sys.argv) == 2 else "kreisel-out")
+out.mkdir(parents=True, exist_ok=True)
 top = SymmetricTop.from_constants(A=155352.7, B=25536.15, unit="MHz")  # CH3F
 b = top.energy_scale
 smap = top.stark_map(J=2, strength=-b * np.linspace(0.0, 12.0, 121))

@@ -18,14 +18,18 @@ drains Jellett's integral J and it sinks back): ``|u|``, the energy E with E + d
 Writes rising_egg.png.
 """
 
+import sys
+from pathlib import Path
+
+import matplotlib.pyplot as plt
 import numpy as np
-from _common import out_dir, pyplot
 
 import kreisel
 from kreisel import bodies
 
-plt = pyplot()
-out = out_dir()
+# the output folder: the script's one argument, else kreisel-out/ (also in a notebook)
+out = Path(sys.argv[1] if len(sys.argv) == 2 else "kreisel-out")
+out.mkdir(parents=True, exist_ok=True)
 a, b = 0.0225, 0.03
 th = bodies.egg_rising_thresholds(a, b)
 viscous = bodies.egg(a, b, friction=kreisel.Viscous(0.3))

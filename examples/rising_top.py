@@ -11,13 +11,17 @@ with spin 300 rad/s; sliding friction at the broad tip drives the axis up (Jelle
 Writes rising_top.png.
 """
 
+import sys
+from pathlib import Path
+
+import matplotlib.pyplot as plt
 import numpy as np
-from _common import out_dir, pyplot
 
 import kreisel
 
-plt = pyplot()
-out = out_dir()
+# the output folder: the script's one argument, else kreisel-out/ (also in a notebook)
+out = Path(sys.argv[1] if len(sys.argv) == 2 else "kreisel-out")
+out.mkdir(parents=True, exist_ok=True)
 fig, ax = plt.subplots(figsize=(8, 4.5))
 for rho, label, colour in ((0.01, "blunt tip, rho = 10 mm", "C3"),
                            (0.0005, "pointed tip, rho = 0.5 mm", "C0")):  # fmt: skip

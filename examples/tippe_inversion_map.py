@@ -2,7 +2,7 @@
 ====================================
 
 Which tippe tops turn over: a sweep of 552 runs over the centre-of-mass offset s and the
-spin, from examples/tippe_inversion_map.toml, into a Zarr store. Writes
+spin (the sweep of examples/tippe_inversion_map.toml), into a Zarr store. Writes
 tippe_inversion_map.png: the inversion time over (psi_dot, s), blank where the top does not
 turn over within 5 s, and the final u.
 
@@ -18,11 +18,21 @@ import matplotlib.pyplot as plt
 import kreisel
 from kreisel import plot
 
-out = Path(sys.argv[1] if len(sys.argv) > 1 else "kreisel-out")
+# the output folder: the script's one argument, else kreisel-out/ (also in a notebook)
+out = Path(sys.argv[1] if len(sys.argv) == 2 else "kreisel-out")
 out.mkdir(parents=True, exist_ok=True)
-# sphinx-gallery runs a script in its own folder and defines no __file__
-here = Path(__file__).parent if "__file__" in globals() else Path.cwd()
-spec = here / "tippe_inversion_map.toml"
+# the sweep of examples/tippe_inversion_map.toml (`kreisel sweep` reads that file), here as
+# tables so that the script runs on its own
+spec = {
+    "top": {"kind": "play", "m": 0.02, "A": 2.56e-6, "C": 3.2e-6, "rho": 0.02,
+            "friction": "viscous", "mu": 1.0},
+    "state": {"theta": 3.0416},  # pi - 0.1: hanging, tilted a little
+    "simulation": {"t_end": 5.0, "rtol": 1e-8},
+    "grid": {"s": {"start": 0.001, "stop": 0.012, "num": 23},
+             "psi_dot": {"start": 30.0, "stop": 250.0, "scale": "log", "num": 24}},
+    "output": {"keep": ["final_u", "final_mode", "inversion_time", "jellett_drift",
+                        "energy_drift"], "chunk": 48},
+}  # fmt: skip
 store = out / "tippe_inversion_map.zarr"
 shutil.rmtree(store, ignore_errors=True)  # a fresh sweep (the same store would be resumed)
 ds = kreisel.sweep(spec, store, progress=False)

@@ -10,13 +10,17 @@ The ball is drawn full on the heavy side, its stem inside the ball's outline (th
 only contact is the sphere). Writes tippe_top.gif.
 """
 
+import sys
+from pathlib import Path
+
 import numpy as np
-from _common import out_dir
 
 import kreisel
 import kreisel.animate
 
-out = out_dir()
+# the output folder: the script's one argument, else kreisel-out/ (also in a notebook)
+out = Path(sys.argv[1] if len(sys.argv) == 2 else "kreisel-out")
+out.mkdir(parents=True, exist_ok=True)
 c = 0.4 * 0.02 * 0.02**2
 top = kreisel.PlayTop(m=0.02, A=0.8 * c, C=c, s=0.006, rho=0.02, friction=kreisel.Viscous(1.0))
 run = kreisel.simulate(top, top.state(theta=np.pi - 0.1, psi_dot=150.0), 4.0, rtol=1e-9)

@@ -12,17 +12,22 @@ It turns over on its ball, the peg touches at 1.37 s and the ball leaves the flo
 instant; it spins on its peg while the drilling friction wears its spin down, falls back
 when the spin drops below the peg's sleeping threshold (J below J_R(1) of the one-sphere
 theory applied to the peg, the dotted line), rocks between ball and peg, rests on both (the
-seed's critical moment) and ends on its ball. Writes tippe_top_peg.png.
+critical moment of a top with a peg) and ends on its ball. Writes tippe_top_peg.png.
 """
 
+import sys
+from pathlib import Path
+
+import matplotlib.pyplot as plt
 import numpy as np
-from _common import out_dir, parts_panels, pyplot
 
 import kreisel
+import kreisel.plot
 from kreisel.shapes import Sphere
 
-plt = pyplot()
-out = out_dir()
+# the output folder: the script's one argument, else kreisel-out/ (also in a notebook)
+out = Path(sys.argv[1] if len(sys.argv) == 2 else "kreisel-out")
+out.mkdir(parents=True, exist_ok=True)
 M, A, C = 6e-3, 8e-7, 7e-7
 top = kreisel.PlayTop(
     M, A, C,
@@ -36,7 +41,7 @@ threshold = kreisel.PlayTop(M, A, C, s=0.016, rho=0.005).J_R(1.0) / (C * (0.016 
 
 fig, axes = plt.subplots(4, 1, figsize=(8, 9), sharex=True)
 colours = {(True, False): "#f2d7b6", (True, True): "#c9b3e6", (False, True): "#b6d7f2"}
-parts_panels(axes, run, colours, ["ball", "peg"], M * 9.81)
+kreisel.plot.parts_panels(axes, run, colours, ["ball", "peg"], M * 9.81)
 axes[2].axhline(threshold, color="k", ls=":", lw=0.8)
 fig.suptitle("tippe top with its peg: ball (tan), both (violet), peg (blue) on the floor")
 fig.tight_layout()

@@ -11,14 +11,17 @@ gamma = 0.8), viscous friction mu = 1 s/m, spun at 150 rad/s near hanging. Write
 tippe_top_time_series.png.
 """
 
+import sys
+from pathlib import Path
+
 import numpy as np
-from _common import out_dir, pyplot
 
 import kreisel
 import kreisel.plot
 
-plt = pyplot()
-out = out_dir()
+# the output folder: the script's one argument, else kreisel-out/ (also in a notebook)
+out = Path(sys.argv[1] if len(sys.argv) == 2 else "kreisel-out")
+out.mkdir(parents=True, exist_ok=True)
 c = 0.4 * 0.02 * 0.02**2
 top = kreisel.PlayTop(m=0.02, A=0.8 * c, C=c, s=0.006, rho=0.02, friction=kreisel.Viscous(1.0))
 run = kreisel.simulate(top, top.state(theta=np.pi - 0.1, psi_dot=150.0), 8.0, rtol=1e-9)

@@ -84,7 +84,7 @@ class Top:
 
 
 def tippe_t1() -> Top:
-    """BENCHMARKS.md case T1: m = 0.02, rho = 0.02, s = 0.006, C = 0.4 m rho^2, A = 0.8 C."""
+    """docs/benchmarks.md case T1: m = 0.02, rho = 0.02, s = 0.006, C = 0.4 m rho^2, A = 0.8 C."""
     m, rho = 0.02, 0.02
     c = 0.4 * m * rho**2
     return Top(m=m, A=0.8 * c, C=c, s=0.006, rho=rho)

@@ -5,7 +5,7 @@ a top can stop in finite time; it then rolls without slipping, which dissipates 
 and a rolling top need not be in a stationary motion: it keeps its energy and need not
 reach the predicted ending. Viscous friction dissipates while any slip is left, so the top
 goes on losing energy at fixed J until it sits in a stationary motion, as the theory
-assumes (the seed: "stationary movements are only achieved asymptotically").
+assumes (theory: the play top; the stationary motions are reached only asymptotically).
 """
 
 from __future__ import annotations

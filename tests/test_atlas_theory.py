@@ -164,7 +164,7 @@ def test_J_R_is_vectorised_and_nan_where_no_precession_exists():
     j = pt.J_R(u)
     assert j.shape == (2, 2)
     assert np.isfinite(j[0]).all() and np.isfinite(j[1, 0]) and np.isnan(j[1, 1])
-    # Outside the inclinations, an error (issue 19): u = cos(theta) lies in [-1, 1].
+    # Outside the inclinations, an error: u = cos(theta) lies in [-1, 1].
     for u in (1.2, -1.01, np.nan):
         with pytest.raises(kreisel.ParameterError, match="^u = "):
             pt.J_R(u)
@@ -229,8 +229,8 @@ def test_stable_motions_are_the_minima_of_V(zone, alpha, gamma):
     assert checked[True] > 0 and checked[False] > 0
 
 
-def test_the_seed_s_counts_of_precessions_per_zone():
-    """The seed, section "Division of the alpha-gamma parameter space": two precessions
+def test_the_counts_of_precessions_per_zone():
+    """theory: the atlas of play tops (the division of the alpha-gamma plane): two precessions
     (the less inclined stable) for |J| between J_Rm and min(J_R(-1), J_R(1)) in zones 4 and
     5; in zone 7 one unstable precession for every |J| > J_R(1) and two between J_Rm and
     J_R(1); in zone 8 one, unstable, for |J| > J_R(1); in type I at most one, stable."""

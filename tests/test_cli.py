@@ -17,6 +17,9 @@ import numpy as np
 import pytest
 
 from kreisel import simulate
+from kreisel._presets import PRESETS as _PRESETS
+
+PRESET_NAMES = list(_PRESETS)
 
 SCRIPT = Path(sys.executable).with_name("kreisel")
 KREISEL = [str(SCRIPT)] if SCRIPT.exists() else [sys.executable, "-m", "kreisel"]
@@ -92,6 +95,11 @@ def test_demo_writes_its_report_figures_and_gif(tmp_path):
             png_ok(out / name)
     for kind in ("waves", "cusps", "loops"):
         assert f"| {kind} | {kind} |" in report
+    # the real tippe top, with its peg, not the ball alone with a painted stem: onto the peg
+    # at 1.37 s (Leine and Glocker's top inverts in about 1.4 s) and back onto the ball
+    assert "Leine and Glocker's tippe top" in report and "name='peg'" in report
+    assert "the peg touches down at t = 1.37" in report
+    assert "it falls back onto its ball at t = 4.55" in report
     assert gif_frames(out / "tippe_top.gif") == 60
     from kreisel import open_sweep
 
@@ -358,3 +366,176 @@ def test_another_friction_law_takes_its_own_coefficient(tmp_path):
                 "--out", tmp_path / law)  # fmt: skip
         summary = json.loads((tmp_path / law / "summary.json").read_text())
         assert f"friction={shown}" in summary["top"]["repr"]
+
+
+@pytest.mark.parametrize("name", sorted(PRESET_NAMES))
+def test_every_preset_printed_as_toml_reruns_its_own_run(name, tmp_path, capsys):
+    """`kreisel presets --toml NAME` is a TOML file (read by the standard library's parser)
+    that `kreisel run` turns into the very run of the preset: the same top, state and
+    settings, so the same trajectory, number for number."""
+    import tomllib
+
+    from kreisel._cli import main
+    from kreisel._config import from_tables, preset, read_toml
+    from kreisel._run import compute
+
+    assert main(["presets", "--toml", name]) == 0
+    text = capsys.readouterr().out
+    tomllib.loads(text)  # valid TOML, whatever kreisel makes of it
+    path = tmp_path / f"{name}.toml"
+    path.write_text(text)
+    via_file = compute(from_tables(read_toml(path), prefix="table", source=path.name))
+    direct = compute(from_tables(preset(name)))
+    assert via_file.columns == direct.columns
+    assert len(via_file) == len(direct) > 1
+    for column in direct.columns:
+        np.testing.assert_array_equal(via_file[column], direct[column], err_msg=column)
+
+
+def test_a_preset_with_parts_runs_from_its_toml_file(tmp_path):
+    """The user's round trip: `kreisel presets --toml tippe > top.toml && kreisel run top.toml`
+    (the tippe top is made of two parts, written as [[top.shape]] tables)."""
+    path = tmp_path / "top.toml"
+    path.write_text(kreisel("presets", "--toml", "tippe").stdout)
+    assert "[[top.shape]]" in path.read_text()
+    kreisel("run", path, "--no-figures", "--out", tmp_path / "o")
+    summary = json.loads((tmp_path / "o" / "summary.json").read_text())
+    assert [p["name"] for p in summary["top"]["shape"]] == ["ball", "peg"]
+    assert summary["result"]["inversion_time"] is not None
+
+
+@pytest.mark.parametrize("flag", ["--s", "--rho"])
+def test_a_tip_field_on_a_top_of_parts_says_what_clashes(flag):
+    proc = kreisel("play", "--preset", "tippe", flag, "0.01", check=False)
+    assert proc.returncode == 2
+    err = proc.stderr
+    assert "missing" not in err
+    assert f"{flag[2:]} = 0.01 clashes with the shape of preset 'tippe'" in err
+    assert "(ball, peg)" in err and "[[top.shape]]" in err
+    assert "kreisel presets --toml tippe" in err
+
+
+def test_play_help_lists_only_the_presets_play_takes():
+    from kreisel._presets import PRESETS
+
+    text = " ".join(kreisel("play", "--help").stdout.split())
+    listed = text.split("start from a built-in play top:", 1)[1].split("--t-end", 1)[0]
+    names = {n.strip() for n in listed.split(",")}
+    assert names == {n for n, p in PRESETS.items() if p.kind == "play"}
+    for n in names:  # and play takes each of them
+        assert PRESETS[n].kind == "play"
+
+
+def _preset_run(name, tmp_path):
+    from kreisel._config import from_tables, preset
+    from kreisel._run import run
+
+    problem = from_tables(preset(name))
+    return run(problem, tmp_path / name, figures=False)
+
+
+def _times(summary: str) -> list[float]:
+    import re
+
+    return [float(x) for x in re.findall(r"at (\d+\.\d+) s", summary)]
+
+
+def _event(result, name, part=None, after=-1.0):
+    return next(e["t"] for e in result["events"]
+                if e["name"] == name and e.get("part") == part and e["t"] > after)  # fmt: skip
+
+
+@pytest.mark.parametrize("name", ["tippe", "tippe-ball", "euler-disk", "coin", "toy-top"])
+def test_the_times_in_a_preset_description_are_those_of_its_run(name, tmp_path):
+    """`kreisel presets` says when things happen; each time is the run's, to its digits."""
+    summary = _PRESETS[name].summary
+    result = _preset_run(name, tmp_path)["result"]
+    if name == "tippe":
+        peg = _event(result, "touchdown", "peg")
+        measured = [peg, _event(result, "touchdown", "ball", after=peg)]
+    elif name == "tippe-ball":
+        measured = [result["inversion_time"]]
+    elif name in ("euler-disk", "coin"):
+        measured = [_event(result, "flat", "lower_rim")]
+    else:
+        measured = [_event(result, "touchdown", "shoulder"), _event(result, "rest")]
+    stated = _times(summary)
+    assert len(stated) == len(measured)
+    for s, m in zip(stated, measured):
+        digits = len(str(s).split(".")[1])
+        assert round(m, digits) == s, (summary, measured)
+
+
+def test_the_other_preset_descriptions_say_what_their_runs_do(tmp_path):
+    runs = {n: _preset_run(n, tmp_path) for n in ("egg", "blunt", "pointed", "rate-gyro",
+                                                 "toy", "sleeping", "gyroscope")}  # fmt: skip
+    egg = runs["egg"]["result"]["final"]["u"]
+    assert "rises to u = 0.88 in 3 s" in _PRESETS["egg"].summary and round(egg, 2) == 0.88
+    blunt = runs["blunt"]["result"]
+    assert any(e["name"] == "lift_off" for e in blunt["events"])  # "it hops"
+    assert blunt["final"]["u"] > 0.999  # "then rises upright"
+    assert abs(runs["pointed"]["result"]["final"]["u"] - np.cos(0.3)) < 0.01
+    gyro = runs["rate-gyro"]["result"]["final"]
+    assert round(gyro["phi"] / 0.2 * 1e3) == 7  # "drifts at 7 mrad/s"
+    assert runs["toy"]["analysis"]["motion"] == "cusps"
+    assert runs["sleeping"]["analysis"]["theta_max"] < 0.07  # stays within 4 degrees
+    a = runs["gyroscope"]["analysis"]
+    assert a["motion"] == "regular_precession" and a["theta_max"] - a["theta_min"] < 1e-12
+
+
+@pytest.mark.parametrize("page", ["README.md", "docs/guide/cli.md"])
+def test_the_readme_and_the_guide_list_every_preset(page):
+    import re
+
+    text = (Path(__file__).parents[1] / page).read_text()
+    block = re.search(r"kreisel presets +# (.*?)\n +kreisel (?:atlas|lagrange)", text,
+                      flags=re.S).group(1)  # fmt: skip
+    listed = {n.strip(" ,#\n") for n in re.split(r"[,\n]", block) if n.strip(" ,#\n")}
+    assert listed == set(_PRESETS)
+
+
+def test_figures_and_animations_report_their_progress_on_stderr(tmp_path):
+    """Off a terminal (a pipe, a log) the seconds that figures and the animation take are
+    not silent: a line per stage and per tenth of the frames, each with the time so far."""
+    import re
+
+    proc = kreisel("lagrange", "--preset", "cusps", "--animate", "gif", "--frames", "20",
+                   "--out", tmp_path / "o")  # fmt: skip
+    lines = proc.stderr.strip().splitlines()
+    stages = [re.fullmatch(r"kreisel lagrange: (.*) \((\d+\.\d) s\)", ln) for ln in lines]
+    assert all(stages), lines
+    said = [m.group(1) for m in stages]
+    times = [float(m.group(2)) for m in stages]
+    assert times == sorted(times)
+    for stage in ("computing the motion", "drawing time_series.png",
+                  "drawing effective_potential.png", "rendering animation.gif",
+                  "writing animation.gif", "done"):  # fmt: skip
+        assert stage in said, said
+    assert sum(s.startswith("rendering animation.gif, ") for s in said) >= 5
+
+
+def test_the_atlas_reports_each_figure_it_draws(tmp_path):
+    proc = kreisel("atlas", "--preset", "tippe-ball", "--out", tmp_path / "a")
+    for name in ("atlas.png", "vertical_axis.png", "J_R.png"):
+        assert f"kreisel atlas: drawing {name} (" in proc.stderr
+
+
+@pytest.mark.parametrize("name", [n for n, p in _PRESETS.items() if "shape" in p.top])
+def test_the_explorers_toml_export_of_a_top_of_parts_reruns_it(name, tmp_path):
+    """The explorer's "Download TOML" (kreisel.explore._api.toml) of a preset made of parts
+    is valid TOML that kreisel run turns into the same run as the page's."""
+    import tomllib
+
+    from kreisel._config import from_tables, preset, read_toml
+    from kreisel._run import compute
+    from kreisel.explore import _api
+
+    page = _api.problem(preset(name))
+    text = _api.toml(page)
+    tomllib.loads(text)
+    path = tmp_path / "export.toml"
+    path.write_text(text)
+    again = compute(from_tables(read_toml(path), prefix="table"))
+    run = compute(page)
+    for column in run.columns:
+        np.testing.assert_array_equal(again[column], run[column], err_msg=column)

@@ -1,4 +1,4 @@
-"""The rising egg (issue 15): a uniform solid prolate spheroid spun fast enough on its side
+"""The rising egg: a uniform solid prolate spheroid spun fast enough on its side
 rises towards its end, one spun slower stays down, and the energy never rises.
 
 References, each derived in docs/guide/play.md ("The rising egg") and again here where a test

@@ -320,8 +320,9 @@ def test_the_command_refuses_a_store_that_is_not_a_folder_and_a_port_in_use(tmp_
         port = taken.getsockname()[1]
         assert main(["explore", "--no-browser", "--port", str(port)]) == 2
     err = capsys.readouterr().err
-    assert err.startswith(
-        f"kreisel explore: error: port = {port} is not allowed: 127.0.0.1:{port} "
+    assert err.strip() == (
+        f"kreisel explore: error: port = {port} is busy: another program listens on "
+        f"127.0.0.1:{port}; give another port (0: any free one)"
     )
 
 
@@ -366,7 +367,7 @@ def test_a_missing_optional_package_is_named_with_how_to_install_it(monkeypatch)
     status, body = _asgi_get(create_app(8765), "/api/atlas", 8765)
     assert status == 501
     assert body["error"] == (
-        "this needs the package 'zarr', which is not installed: pip install 'kreisel[cli]'"
+        "this needs the package 'zarr', which is not installed: pip install 'kreisel[sweep]'"
     )
 
 

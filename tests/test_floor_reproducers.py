@@ -1,4 +1,4 @@
-"""Tops on a floor never go through it: the reproducers of the one-engine issue, each with an
+"""Tops on a floor never go through it: the reproducers of runs that went through it, each with an
 independent check.
 
 - The height of each part's lowest point is computed here from G's height and u = cos(theta)

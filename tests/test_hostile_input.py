@@ -1,4 +1,4 @@
-"""The defects a fuzz campaign found (issue 19), each as its reproducer, exactly as reported.
+"""The defects a fuzz campaign found, each as its reproducer, exactly as reported.
 
 Each call must end in a finite result, checked against an independent computation, or in a
 :class:`kreisel.ParameterError` that names the argument; never a crash, a panic or a NaN. The
@@ -388,3 +388,79 @@ def test_sleeping_and_hanging_tops_are_analysed_not_refused(tmp_path, capsys, th
     assert a["steady_precession_rates"] is None  # it needs 0 < theta < pi
     # The sleeping threshold sqrt(4 I1 m g l)/I3 is what applies at the vertical.
     assert a["sleeping_threshold"] == pytest.approx(math.sqrt(4 * 1.0 * 1.0 * 9.81 * 0.1) / 0.5)
+
+
+# --------------------------------------------------------------------------------------
+# the bodies' helpers and numbers too large for a float: an error naming the argument
+# --------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    "call, names",
+    [
+        (lambda b: b.egg_rising_thresholds(1e-100, 0.03), ("axial = 0.03", "equatorial = 1e-100")),
+        (lambda b: b.egg_rising_thresholds(0.0225, 1e100), ("axial = 1e+100",)),
+        (lambda b: b.egg_settled_inclination(50, 0.0225, 1e100), ("axial = 1e+100",)),
+        (lambda b: b.egg_rising_thresholds(0.0225, 0.03, 1e308), ("g = 1e+308",)),
+        (
+            lambda b: b.disk(1e100, 1e100, 1e100),
+            ("radius = 1e+100", "thickness = 1e+100", "mass = 1e+100"),
+        ),
+        (
+            lambda b: b.disk_rolling_rates(b.disk(0.01213, 0.00175, 0.00567), 1e-300),
+            ("alpha = 1e-300",),
+        ),  # fmt: skip
+        (
+            lambda b: b.disk_rolling_state(b.disk(0.01213, 0.00175, 0.00567), 1e-300),
+            ("alpha = 1e-300",),
+        ),  # fmt: skip
+    ],
+)
+def test_the_bodies_helpers_name_the_argument_that_leaves_the_floats(call, names):
+    """Each was a ZeroDivisionError, an OverflowError, a silent inf, or an error blaming a
+    derived quantity (A, phi_dot) the caller never gave."""
+    from kreisel import bodies
+
+    with pytest.raises(kreisel.ParameterError) as e:
+        call(bodies)
+    message = str(e.value)
+    for name in names:
+        assert name in message
+    assert not message.startswith(("A =", "phi_dot ="))
+
+
+def test_the_egg_thresholds_hold_over_the_range_they_accept():
+    """Where they are allowed, the thresholds scale as sqrt(g / a) at a fixed shape (the mass
+    and the size drop out of 5 g / a): the tiniest and largest eggs give the default egg's
+    numbers times that factor, finite and not zero."""
+    from kreisel import bodies
+
+    base = bodies.egg_rising_thresholds(0.0225, 0.03, 9.81)
+    for a, g in ((0.0225e-90, 9.81e90), (0.0225e90, 9.81e-90), (0.0225e-98, 9.81e-98)):
+        scaled = bodies.egg_rising_thresholds(a, a * 0.03 / 0.0225, g)
+        factor = math.sqrt((g / a) / (9.81 / 0.0225))
+        for x, y in zip(scaled, base):
+            assert math.isfinite(x) and x > 0
+            assert x == pytest.approx(y * factor, rel=1e-12)
+
+
+@pytest.mark.parametrize(
+    "make, name",
+    [
+        (lambda v: kreisel.LagrangeTop(v, 1, 1, 0.1), "I1"),
+        (lambda v: kreisel.LagrangeTop(1, v, 1, 0.1), "I3"),
+        (lambda v: __import__("kreisel.shapes").shapes.Sphere(v, 0), "radius"),
+        (lambda v: kreisel.PlayTop(v, 1e-5, 1e-5, s=0.01, rho=0.02), "m"),
+    ],
+)
+@pytest.mark.parametrize(
+    "value", [2**1100, -(2**1100), 10**5000], ids=["2^1100", "-2^1100", "10^5000"]
+)
+def test_an_integer_too_large_for_a_float_is_an_error_naming_the_argument(make, name, value):
+    """Not a bare OverflowError, and not Python's advice to call sys.set_int_max_str_digits()
+    (a 5000-digit integer cannot be printed)."""
+    with pytest.raises(kreisel.ParameterError) as e:
+        make(value)
+    message = str(e.value)
+    assert f"{name} = <an integer of about" in message
+    assert "set_int_max_str_digits" not in message and "1.8e+308" in message

@@ -17,7 +17,7 @@ PACKAGE = Path(__file__).resolve().parent.parent / "python" / "kreisel"
 
 # Edges that close cycles in files other people are changing now; each one goes when its
 # cycle is broken (test_known_edges_still_close_cycles then says so).
-# Edges that close a cycle still to be removed (none left: the one-stack issue removed
+# Edges that close a cycle still to be removed (none left: the one-stack rewrite removed
 # _play <-> _simulate and _config -> kreisel); the tests below keep this set honest.
 KNOWN: set = set()
 

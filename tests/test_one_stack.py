@@ -1,6 +1,6 @@
 """One simulation stack for every model: the rules and names of the core, the status of a
-run, event indices, and the defects of the fuzz campaign (issue 19, items 3, 5 and 6) that
-the stack's single check removes."""
+run, event indices, and the defects of the fuzz campaign (tiny fixed steps, play-top events
+on a pivot top, empty output times) that the stack's single check removes."""
 
 from __future__ import annotations
 
@@ -232,10 +232,11 @@ def test_every_column_of_every_model_has_a_unit():
 
 
 def test_a_contact_starting_with_a_slip_below_the_tolerance_rolls_instead_of_chattering():
-    """The rule of the touchdown fix (issue 19 item 2) is the contact's, for every way into a
-    slip phase: a start state whose slip lies between the start threshold (1e-12 of the
-    speed scale) and the slip tolerance (1e-9 of it at rtol 1e-10) would start a slip phase
-    whose slip_to_roll event never fires. It rolls, and the energy balance holds."""
+    """The rule of the touchdown fix (a Coulomb drop with restitution 0 hung at touchdown) is
+    the contact's, for every way into a slip phase: a start state whose slip lies between the
+    start threshold (1e-12 of the speed scale) and the slip tolerance (1e-9 of it at rtol
+    1e-10) would start a slip phase whose slip_to_roll event never fires. It rolls, and the
+    energy balance holds."""
     pt = kreisel.PlayTop(0.02, 2.56e-6, 3.2e-6, 0.006, 0.02, friction=kreisel.Coulomb(0.5))
     slip = kreisel.simulate(pt, pt.state(0.3, psi_dot=100.0), 0.0).slip_velocity[0]
     st = pt.state(0.3, psi_dot=100.0, vx=-slip[0] + 1e-10, vy=-slip[1])

@@ -1,4 +1,4 @@
-"""Tops of several contact parts and Coulomb-Contensou friction (issue 14; theory: several parts).
+"""Tops of several contact parts and Coulomb-Contensou friction (theory: several parts).
 
 References are independent of the code under test: closed forms of the friction law
 (theory: several parts), the rolling-ball closed form of a sliding sphere (v_T = 0 at t = 2 v0/(7

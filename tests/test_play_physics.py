@@ -22,7 +22,8 @@ from scipy.optimize import brentq
 
 import kreisel
 
-# BENCHMARKS.md T1 (tippe top, area (c) of the seed's Fig. 3: 1 - alpha < gamma < 1 + alpha)
+# docs/benchmarks.md T1 (tippe top, area (c) of the vertical-axis diagram:
+# 1 - alpha < gamma < 1 + alpha)
 T1 = ref.tippe_t1()
 T1_START = {"theta": math.pi - 0.1, "psi_dot": 150.0}
 
@@ -38,7 +39,8 @@ COULOMB_TIPPE_MU = 0.02
 SIDE_TOP = ref.Top(m=0.02, A=0.8 * _C02, C=_C02, s=0.006, rho=0.02)
 SIDE_START = {"theta": math.pi / 2, "psi_dot": 150.0}
 
-# the seed's Fig. 4: the same top with a blunt and with a pointed tip
+# a blunt and a pointed tip on the same top (theory: the play top): friction
+# raises the one and lowers the other
 BLUNT = ref.Top(m=0.05, A=1.8e-5, C=2e-5, s=0.01, rho=0.04)  # alpha = 0.25
 POINTED = ref.Top(m=0.05, A=1.8e-5, C=2e-5, s=0.01, rho=0.0005)  # alpha = 20
 
@@ -288,7 +290,7 @@ def test_tippe_top_turns_over_with_viscous_friction(t1_viscous):
     assert traj.u[0] == pytest.approx(-math.cos(0.1), rel=1e-15)
     assert traj.u[-1] > 0.99
     assert np.min(traj.u[traj.t > 6.0]) > 0.99
-    # BENCHMARKS.md: "it turns over in about 3 s"; the reference crosses u = 0 at 2.527 s
+    # docs/benchmarks.md T1: it turns over at 2.5268 s; the reference crosses u = 0 at 2.527 s
     t_cross = traj.t[np.argmax(traj.u > 0.0)]
     assert 2.0 < t_cross < 3.5
     assert "flight" not in set(traj.mode)

@@ -1,4 +1,4 @@
-"""Contact parts other than spheres (issue 15's first part): spheroids and tori.
+"""Contact parts other than spheres: spheroids and tori.
 
 References: theory: bodies of revolution (support points) and 4.5 (a disk rolling with its centre at
 rest: Omega^2 sin(alpha) = m g a / A, from the balance of the gravity torque with the turning

@@ -477,6 +477,32 @@ def test_command_line_writes_store_and_figure_and_resumes(tmp_path, capsys):
     assert "s is an empty grid" in capsys.readouterr().err
 
 
+def test_the_command_line_shows_a_store_as_its_path_and_names_its_own_flag(tmp_path, capsys):
+    """Not PosixPath('...') and not the library's overwrite=True alone: the path as given,
+    and the command line's --overwrite."""
+    from kreisel._cli import main
+
+    spec = tmp_path / "tiny.toml"
+    spec.write_text(SPEC_TOML.replace("num = 3", "num = 1").replace("[0.004, 0.008]", "[0.006]")
+                    .replace("t_end = 2.5", "t_end = 0.05"))  # fmt: skip
+    store = tmp_path / "out.zarr"
+    assert main(["sweep", str(spec), "--store", str(store), "--quiet", "--no-figure"]) == 0
+    capsys.readouterr()
+    spec.write_text(spec.read_text().replace("theta = 3.0", "theta = 2.9"))
+    assert main(["sweep", str(spec), "--store", str(store), "--quiet", "--no-figure"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "PosixPath" not in err
+    assert f"store = {str(store)!r} holds another sweep" in err
+    assert "--overwrite" in err
+    assert main(["sweep", str(spec), "--store", str(store), "--quiet", "--no-figure",
+                 "--overwrite"]) == 0  # fmt: skip
+    (tmp_path / "foreign").mkdir()
+    (tmp_path / "foreign" / "x.txt").write_text("mine")
+    assert main(["sweep", str(spec), "--store", str(tmp_path / "foreign"), "--quiet"]) == 2
+    err = capsys.readouterr().err
+    assert "PosixPath" not in err and repr(str(tmp_path / "foreign")) in err
+
+
 def test_figures_of_grids_samples_and_modes(tmp_path):
     import matplotlib
 
@@ -616,7 +642,7 @@ def test_failed_runs_store_the_same_steps_wherever_they_failed(tmp_path):
     ],
 )
 def test_a_sweep_too_large_to_hold_is_refused_before_any_allocation(tmp_path, section, table):
-    """Issue 19 item 11: [grid] num = 1e12 used to allocate 7 TiB; the cap is checked on
+    """[grid] num = 1e12 used to allocate 7 TiB; the cap is checked on
     each axis before its values are made."""
     tables = play_spec(**{section: table})
     start = time.perf_counter()
@@ -627,9 +653,28 @@ def test_a_sweep_too_large_to_hold_is_refused_before_any_allocation(tmp_path, se
 
 
 def test_a_wrong_field_is_reported_before_nothing_is_swept(tmp_path):
-    """Issue 19 item 13: the field comes first."""
+    """The wrong field is named before anything else is checked."""
     tables = play_spec()
     tables.pop("grid", None)
     tables["top"].update(s=0.006, rho=1e-320)
     with pytest.raises(kreisel.ParameterError, match=r"rho = 1e-320"):
         kreisel.sweep(tables, tmp_path / "x.zarr", progress=False)
+
+
+def test_a_sweep_without_progress_does_not_load_tqdm_auto():
+    """tqdm.auto warns in a notebook without ipywidgets (the tutorials showed the build
+    machine's path in that warning) even when no bar is shown: without progress it is not
+    imported."""
+    code = (
+        "import sys, kreisel\n"
+        "kreisel.sweep({'top': {'preset': 'tippe-ball'}, 'simulation': {'t_end': 0.01},"
+        " 'grid': {'s': [0.004, 0.006]}}, None, progress=False)\n"
+        "print('tqdm.auto' in sys.modules)\n"
+    )
+    import subprocess
+    import sys
+
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          timeout=120)  # fmt: skip
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout.strip() == "False"

@@ -1,4 +1,4 @@
-"""The life of a toy top (issue 15): spun below its sleeping threshold it precesses, falls onto
+"""The life of a toy top: spun below its sleeping threshold it precesses, falls onto
 its shoulder, rolls on its tip and shoulder and comes to rest.
 
 Independent references, derived here:

@@ -5,8 +5,9 @@ its playback, in Debian's headless Chromium (the harness of tests/test_explore_b
 
 Writes main.png (the 3D view and the charts), atlas.png, sweeps.png, export.png and
 kovalevskaya.png, and prints the frames per second reached while playing a long run (a
-tippe top over 120 s, 20001 samples) at real time, in three rounds of 4 s. Headless Chromium draws WebGL in
-software (SwiftShader), so the rate is a lower bound of what a browser on a GPU reaches.
+tippe top over 120 s, 20001 samples) at real time, in three rounds of 4 s. Headless Chromium
+draws WebGL in software (SwiftShader), so the rate is a lower bound of what a browser on a GPU
+reaches.
 """
 
 from __future__ import annotations
@@ -74,13 +75,13 @@ def main() -> None:
 
     with tempfile.TemporaryDirectory() as tmp:
         spec = {
-            "top": {"preset": "tippe-ball"},  # s and A sweep a top of one sphere
+            "top": {"preset": "tippe-ball"},  # a top on one tip sphere: s is a field
             "grid": {
                 "s": {"start": 0.002, "stop": 0.012, "num": 11},
                 "A": {"start": 2.0e-6, "stop": 3.6e-6, "num": 11},
             },
         }
-        kreisel.sweep(spec, str(Path(tmp) / "tippe-s-A.zarr"), progress=False)
+        kreisel.sweep(spec, str(Path(tmp) / "tippe-ball-s-A.zarr"), progress=False)
         server = Server(store=Path(tmp))
         driver = chromium(1400, 1450)
         try:
@@ -90,7 +91,7 @@ def main() -> None:
             click(driver, "#tabs [data-tab=atlas]")
             save(driver, args.out / "atlas.png")
             click(driver, "#tabs [data-tab=sweeps]")
-            Select(driver.find_element(By.ID, "store")).select_by_value("tippe-s-A.zarr")
+            Select(driver.find_element(By.ID, "store")).select_by_value("tippe-ball-s-A.zarr")
             wait_for(driver, "return document.getElementById('sweep-var').value !== ''")
             runs = int(driver.find_element(By.ID, "run-count").text)
             canvas = driver.find_element(By.ID, "sweep-map")

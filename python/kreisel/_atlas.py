@@ -98,13 +98,14 @@ class Classification:
     Attributes
     ----------
     type : str
-        ``"Ia"``, ``"Ib"``, ``"IIa"`` or ``"IIb"`` (the seed's Fig. 6).
+        ``"Ia"``, ``"Ib"``, ``"IIa"`` or ``"IIb"`` (theory: the atlas of play tops).
     zone : int
         1..8: 1 = Ia, 2 = Ib; in IIa 3 (u_m > 1), 4 and 5 (u_m in [-1, 1] with
         J_R(-1) > J_R(1) and < J_R(1)), 6 (u_m < -1); in IIb 7 (u_m <= 1), 8 (u_m > 1).
     fig3 : str
-        Area of the vertical-axis diagram (the seed's Fig. 3): ``"a"`` (gamma >= 1 + alpha),
-        ``"b"`` (gamma <= 1 - alpha) or ``"c"`` (in between: tippe tops).
+        Area of the vertical-axis diagram (theory: the atlas of play tops): ``"a"``
+        (gamma >= 1 + alpha), ``"b"`` (gamma <= 1 - alpha) or ``"c"`` (in between: tippe
+        tops).
 
     Examples
     --------

@@ -77,9 +77,10 @@ def _drive_tables(kw: dict) -> dict:
     return out
 
 
-def _run_options(f):
-    return _apply(f, [
-        _opt("--preset", "preset", f"start from a built-in top: {known_presets()}", type=str),
+def _run_options(kind):
+    return lambda f: _apply(f, [
+        _opt("--preset", "preset", f"start from a built-in {kind} top: {known_presets(kind)}",
+             type=str),
         _opt("--t-end", "t_end", "duration (s) [2; play 5; a preset's own]", type=float),
         _opt("--rtol", "rtol", "relative tolerance of dop853 [1e-10]", type=float),
         _opt("--atol", "atol", "absolute tolerance of dop853 [1e-12]", type=float),
@@ -126,9 +127,8 @@ def demo(out, no_animation):
     if no_animation:
         demo(out, animation=False)
         return
-    with click.progressbar(length=DEMO_FRAMES, label="rendering the tippe top", file=sys.stderr,
-                           show_eta=False) as bar:  # fmt: skip
-        demo(out, animation=True, progress=bar.update)
+    with _Progress(DEMO_FRAMES, "kreisel demo") as bar:
+        demo(out, animation=True, progress=lambda n: bar.update(n, "rendering the tippe top"))
 
 
 @cli.command(context_settings=_CONTEXT)
@@ -148,7 +148,7 @@ def presets(as_toml):
 
 
 @cli.command(context_settings=_CONTEXT)
-@_run_options
+@_run_options("lagrange")
 @_opt("--method", "method", "integrate instead of the exact solution: dop853, rk4, splitting, "
       "splitting4, splitting6, verlet, midpoint, gauss4", type=str)  # fmt: skip
 @click.option("--exact", is_flag=True, help="the exact solution (the default without --method)")
@@ -171,7 +171,7 @@ def lagrange(**kw):
 
 
 @cli.command(context_settings=_CONTEXT)
-@_run_options
+@_run_options("heavy")
 @_opt("--method", "method", "dop853 [default], rk4, splitting, splitting4, splitting6, verlet, "
       "midpoint, gauss4", type=str)  # fmt: skip
 @_opt("--dt", "dt", "step (s) of a fixed-step method", type=float)
@@ -199,7 +199,7 @@ def heavy(**kw):
 
 
 @cli.command(context_settings=_CONTEXT)
-@_run_options
+@_run_options("play")
 @_opt("--vx", "vx", "horizontal velocity of the centre of mass, x (m/s) [0]", type=float)
 @_opt("--vy", "vy", "horizontal velocity of the centre of mass, y (m/s) [0]", type=float)
 @_opt("--height", "height", "drop from this gap between tip and floor (m) [in contact]",
@@ -318,7 +318,7 @@ def atlas(preset, out, **top):
                 )
         else:
             base = {"top": {"kind": "play"}, "state": {}, "simulation": {}}
-        tables = overlay(base, {"top": given, "state": {}, "simulation": {}})
+        tables = overlay(base, {"top": given, "state": {}, "simulation": {}}, preset)
         if preset is None:
             missing = [k for k in ("m", "A", "C", "s", "rho") if k not in given]
             if missing:
@@ -332,31 +332,29 @@ def atlas(preset, out, **top):
 
     plt = plot._pyplot()
     out.mkdir(parents=True, exist_ok=True)
-    written = []
-    fig, ax = plt.subplots(figsize=(9, 6.5))
-    plot.atlas(pt, ax=ax)
-    fig.tight_layout()
-    written.append(out / "atlas.png")
-    fig.savefig(written[-1], dpi=110)
-    plt.close(fig)
-    fig, ax = plt.subplots(figsize=(7, 6))
-    plot.vertical_axis_diagram(pt, ax=ax)
-    fig.tight_layout()
-    written.append(out / "vertical_axis.png")
-    fig.savefig(written[-1], dpi=110)
-    plt.close(fig)
+    written: list[Path] = []
+
+    def figure(name, size, draw, bar):
+        written.append(out / name)
+        bar.update(0, f"drawing {name}")
+        fig, ax = plt.subplots(figsize=size)
+        draw(ax)
+        fig.tight_layout()
+        fig.savefig(written[-1], dpi=110)
+        plt.close(fig)
+        bar.update(1, f"drawing {name}")
+
+    with _Progress(2 if pt is None else 3, "kreisel atlas") as bar:
+        figure("atlas.png", (9, 6.5), lambda ax: plot.atlas(pt, ax=ax), bar)
+        figure("vertical_axis.png", (7, 6), lambda ax: plot.vertical_axis_diagram(pt, ax=ax), bar)
+        if pt is not None:
+            figure("J_R.png", (8, 5), lambda ax: plot.J_R_plot(pt, ax=ax), bar)
     if pt is not None:
         c = pt.classify()
         click.echo(
             f"{pt!r}\n  alpha = {pt.alpha:.4g}, gamma = {pt.gamma:.4g}: type {c.type}, "
             f"zone {c.zone}, Fig. 3 area {c.fig3}"
         )
-        fig, ax = plt.subplots(figsize=(8, 5))
-        plot.J_R_plot(pt, ax=ax)
-        fig.tight_layout()
-        written.append(out / "J_R.png")
-        fig.savefig(written[-1], dpi=110)
-        plt.close(fig)
     click.echo(f"wrote {out}/: {', '.join(p.name for p in written)}")
 
 
@@ -524,7 +522,7 @@ def _go(kind: str, top: dict, state: dict, sim: dict, kw: dict, drive: dict | No
             )
     else:
         base = {"top": {"kind": kind}, "state": {}, "simulation": {}}
-    tables = overlay(base, {"top": top, "state": state, "simulation": sim})
+    tables = overlay(base, {"top": top, "state": state, "simulation": sim}, name)
     for t, given in (drive or {}).items():
         tables[t] = {**tables.get(t, {}), **given}
     problem = from_tables(tables)
@@ -533,19 +531,60 @@ def _go(kind: str, top: dict, state: dict, sim: dict, kw: dict, drive: dict | No
     _execute(problem, out, **kw)
 
 
+class _Progress:
+    """Progress on stderr: on a terminal click's bar; elsewhere (a pipe, a log, a notebook)
+    one line per stage and one per tenth of a long stage, with the seconds since the start,
+    so that the seconds figures and animations take are never silent."""
+
+    def __init__(self, length: int, label: str):
+        import time
+
+        self.length, self.label, self.done = length, label, 0
+        self.stage: str | None = None
+        self.start, self.clock = time.perf_counter(), time.perf_counter
+        self.bar = None
+        if sys.stderr.isatty():
+            self.bar = click.progressbar(length=length, label=label, file=sys.stderr,
+                                         show_eta=False, item_show_func=lambda s: s)  # fmt: skip
+
+    def __enter__(self):
+        if self.bar is not None:
+            self.bar.__enter__()
+        return self
+
+    def __exit__(self, *exc):
+        if self.bar is not None:
+            return self.bar.__exit__(*exc)
+        if exc[0] is None:
+            self._line("done")
+        return None
+
+    def _line(self, what: str):
+        took = self.clock() - self.start
+        print(f"{self.label}: {what} ({took:.1f} s)", file=sys.stderr, flush=True)
+
+    def update(self, n: int, stage: str | None = None):
+        if self.bar is not None:
+            self.bar.update(n, stage)
+            return
+        before, self.done = self.done, min(self.done + n, self.length)
+        if stage is not None and stage != self.stage:
+            self.stage = stage
+            self._line(stage)
+        elif self.stage is not None and self.length >= 20:
+            tenth = self.length / 10
+            if int(self.done / tenth) > int(before / tenth):
+                self._line(f"{self.stage}, {100 * self.done // self.length}%")
+
+
 def _execute(problem, out: Path, *, fmt, animation, frames, fps, no_figures):
     from ._run import run, work_units
 
     driven = getattr(problem.model, "driven", False)
     units = work_units(problem.kind, not no_figures, animation, frames, driven)
-    with click.progressbar(length=units, label=f"kreisel {problem.kind}", file=sys.stderr,
-                           show_eta=False, item_show_func=lambda s: s) as bar:  # fmt: skip
-
-        def progress(n, label):
-            bar.update(n, label)
-
+    with _Progress(units, f"kreisel {problem.kind}") as bar:
         data = run(problem, out, fmt=fmt, figures=not no_figures, animation=animation,
-                   frames=frames, fps=fps, progress=progress)  # fmt: skip
+                   frames=frames, fps=fps, progress=bar.update)  # fmt: skip
     _report(problem, data, out)
 
 
@@ -656,12 +695,9 @@ def main(argv=None) -> int:
     except ModuleNotFoundError as e:
         if e.name is None or e.name.split(".")[0] == "kreisel":
             raise
-        return _fail(
-            f"this needs the package {e.name!r}, which is not installed: "
-            "pip install 'kreisel[cli]'",
-            1,
-            command,
-        )
+        from ._extras import missing_message
+
+        return _fail(missing_message(e.name), 1, command)
     return rv if isinstance(rv, int) else 0
 
 

@@ -50,8 +50,9 @@ def required(kind: str, top: dict) -> tuple[str, ...]:
     return REQUIRED[kind]
 
 
-def known_presets() -> str:
-    return ", ".join(PRESETS)
+def known_presets(kind: str | None = None) -> str:
+    """The names of the presets (of tops of ``kind`` only, if given)."""
+    return ", ".join(n for n, p in PRESETS.items() if kind is None or p.kind == kind)
 
 
 def preset(name) -> dict:
@@ -131,10 +132,11 @@ def _check_fields(where: str, table: dict, allowed, what: str):
             )
 
 
-def overlay(base: dict, over: dict) -> dict:
+def overlay(base: dict, over: dict, name: str | None = None) -> dict:
     """Tables ``over`` laid on ``base`` field by field (None leaves a field as it is). A state
     given as a quaternion replaces one in Euler angles, and back; a friction law given without
-    mu takes its own default coefficient."""
+    mu takes its own default coefficient. s or rho alone on a base made of parts (preset
+    ``name``) is an error that says how to change a part."""
     out = {k: dict(v) for k, v in base.items()}
     for table, values in over.items():
         out.setdefault(table, {})
@@ -152,12 +154,32 @@ def overlay(base: dict, over: dict) -> dict:
         if table == "top" and "friction" in given and given["friction"] != "coulomb_contensou":
             out["top"].pop("patch_radius", None)
         if table == "top" and ("s" in given or "rho" in given):
+            parts = out["top"].get("shape")
+            if parts and "shape" not in given and not ("s" in given and "rho" in given):
+                _clash_with_parts(given, parts, name)
             out["top"].pop("shape", None)  # a tip sphere replaces the base's parts
         if table == "top" and "shape" in given:
             out["top"].pop("s", None)
             out["top"].pop("rho", None)
         out[table].update(given)
     return out
+
+
+def _clash_with_parts(given: dict, parts: list, name: str | None):
+    """The error for s or rho alone laid on a top made of parts."""
+    alone = "s" if "s" in given else "rho"
+    top = "the top" if name is None else f"preset {name!r}"
+    names = ", ".join(
+        str(p.get("name") or f"shape[{i}]") if isinstance(p, dict) else f"shape[{i}]"
+        for i, p in enumerate(parts)
+    )
+    raise ParameterError(
+        f"{alone} = {given[alone]!r} clashes with the shape of {top}: it is made of parts "
+        f"({names}), and s and rho describe a single tip sphere instead. Give both s and rho "
+        "to replace the parts by one tip sphere, or change a part in a TOML file: "
+        f"`kreisel presets --toml {name or 'NAME'} > top.toml`, edit its [[top.shape]] "
+        "tables, `kreisel run top.toml`"
+    )
 
 
 def from_tables(tables: dict, *, prefix: str = "", source: str = "") -> Problem:
@@ -202,7 +224,7 @@ def from_tables(tables: dict, *, prefix: str = "", source: str = "") -> Problem:
                 f"{where('top')}kind = {top['kind']!r} is not allowed with preset = {chosen!r}, "
                 f"a {base['top']['kind']} top"
             )
-        merged = overlay(base, {"top": top, "state": state, "simulation": sim})
+        merged = overlay(base, {"top": top, "state": state, "simulation": sim}, chosen)
         top, state, sim = merged["top"], merged["state"], merged["simulation"]
     kind = top.pop("kind", None)
     if kind is None:
@@ -432,26 +454,48 @@ def _settings(kind: str, model, sim: dict, where: str) -> Settings:
 
 def to_toml(tables: dict, comments=()) -> str:
     """The TOML file of ``tables`` ([top], [state], [simulation]) that :func:`from_tables`
-    reads back as they are, after a comment line for each of ``comments``."""
+    reads back as they are, after a comment line for each of ``comments``. A list of tables
+    (the parts of a ``shape``) is written as an array of tables, ``[[top.shape]]``."""
 
     def value(v):
         if isinstance(v, str):
             return '"' + v.replace("\\", "\\\\").replace('"', '\\"') + '"'
-        if isinstance(v, bool):
+        if isinstance(v, (bool, np.bool_)):
             return "true" if v else "false"
+        if isinstance(v, (int, np.integer)):
+            return str(int(v))
+        if isinstance(v, (float, np.floating)):
+            x = float(v)
+            if np.isnan(x):
+                return "nan"
+            return repr(x) if np.isfinite(x) else ("inf" if x > 0 else "-inf")
         if isinstance(v, (list, tuple)):
             return "[" + ", ".join(value(x) for x in v) + "]"
-        return repr(v)
+        if isinstance(v, dict):
+            return "{ " + ", ".join(f"{k} = {value(x)}" for k, x in v.items()) + " }"
+        raise TypeError(f"{v!r} ({type(v).__name__}) has no TOML form")
+
+    def is_tables(v):
+        return isinstance(v, (list, tuple)) and bool(v) and all(isinstance(x, dict) for x in v)
 
     lines = [f"# {c}" for c in comments]
     if lines:
         lines.append("")
     for table in TABLES:
-        if table in DRIVE_TABLES and table not in tables:
+        if table in DRIVE_TABLES and not tables.get(table):
             continue
+        fields = tables.get(table, {})
         lines.append(f"[{table}]")
-        lines += [f"{k} = {value(v)}" for k, v in tables.get(table, {}).items()]
+        lines += [
+            f"{k} = {value(v)}" for k, v in fields.items() if v is not None and not is_tables(v)
+        ]
         lines.append("")
+        for k, v in fields.items():
+            if is_tables(v):
+                for part in v:
+                    lines.append(f"[[{table}.{k}]]")
+                    lines += [f"{f} = {value(x)}" for f, x in part.items() if x is not None]
+                    lines.append("")
     return "\n".join(lines)
 
 

@@ -81,32 +81,36 @@ def demo(out: Path, *, animation: bool = True, progress=None) -> Path:
 def _demo_tippe(out: Path, *, animation: bool, progress) -> dict:
     import numpy as np
 
-    from . import PlayTop, Viscous, events, plot, simulate
+    from . import events, plot, simulate
+    from ._config import from_tables, preset
 
-    # BENCHMARKS case T1: a tippe top (alpha = 0.3, gamma = 0.8) spun at 150 rad/s near hanging.
-    m, rho, s = 0.02, 0.02, 0.006
-    c = 0.4 * m * rho**2
-    pt = PlayTop(m=m, A=0.8 * c, C=c, s=s, rho=rho, friction=Viscous(mu=1.0))
-    st = pt.state(theta=np.pi - 0.1, psi_dot=150.0)
-    tr = simulate(pt, st, 8.0, rtol=1e-9, events=[events.inversion(0.9)])
+    # Leine and Glocker's tippe top (the preset "tippe"): a ball with a peg, Coulomb-Contensou
+    # friction, spun at 180 rad/s near hanging on its ball.
+    tables = preset("tippe")
+    problem = from_tables(tables)
+    pt, st = problem.model, problem.state
+    tr = simulate(pt, st, problem.settings.t_end, rtol=problem.settings.rtol,
+                  events=[events.inversion(0.9)])  # fmt: skip
     inv = [e.t for e in tr.events if e.name == "inversion"]
-    drift = np.abs(tr.jellett / tr.jellett[0] - 1).max()
-    print(f"kreisel demo: {pt!r}")
+    on_peg = next((e.t for e in tr.events if e.name == "touchdown" and e.part == "peg"), None)
+    back = next((e.t for e in tr.events if e.name == "touchdown" and e.part == "ball"
+                 and on_peg is not None and e.t > on_peg), None)  # fmt: skip
+    drift = float(np.max(np.abs(tr.energy + tr.dissipated - tr.energy[0])) / tr.energy[0])
+    print(f"kreisel demo: Leine and Glocker's tippe top, {pt!r}")
     print(
-        f"  alpha = {pt.alpha:.3g}, gamma = {pt.gamma:.3g}: a tippe top "
-        "(1 - alpha < gamma < 1 + alpha)"
+        f"  spun at {tables['state']['psi_dot']:g} rad/s from u = {tr.u[0]:.4f} on its ball: "
+        + (f"the peg touches down at t = {on_peg:.3f} s, " if on_peg is not None else "")
+        + (f"u rises through 0.9 at t = {inv[0]:.3f} s" if inv else "it does not turn over")
+        + (f"; it falls back onto its ball at t = {back:.3f} s" if back is not None else "")
+        + f"; ends at u = {tr.u[-1]:.4f}"
     )
     print(
-        f"  spun at 150 rad/s from u = {tr.u[0]:.4f}: u rises through 0.9 at t = "
-        f"{inv[0] if inv else float('nan'):.3f} s, ends at u = {tr.u[-1]:.5f} ({tr.mode[-1]})"
-    )
-    print(
-        f"  Jellett's integral kept to {drift:.1e} (relative); energy {tr.energy[0]:.5g} J -> "
-        f"{tr.energy[-1]:.5g} J, dissipated {tr.dissipated[-1]:.5g} J"
+        f"  energy {tr.energy[0]:.5g} J -> {tr.energy[-1]:.5g} J, dissipated "
+        f"{tr.dissipated[-1]:.5g} J (balance kept to {drift:.1e} of the start)"
     )
     plt = plot._pyplot()
     fig = plot.play_time_series(tr)
-    fig.suptitle("Tippe top turning over (viscous friction; slip shaded)")
+    fig.suptitle("Leine and Glocker's tippe top: onto its peg and back")
     fig.tight_layout()
     path = out / "tippe_top.png"
     fig.savefig(path, dpi=110)
@@ -124,13 +128,14 @@ def _demo_tippe(out: Path, *, animation: bool, progress) -> dict:
         from . import animate
 
         gif = out / "tippe_top.gif"
-        # 60 frames over the first 4 s: the turn over happens there
-        animate.to_gif(tr, gif, frames=DEMO_FRAMES, fps=12, t_stop=4.0, title="tippe top",
-                       progress=progress)  # fmt: skip
+        # 60 frames over the first 6 s: onto the peg at 1.4 s, back onto the ball at 4.6 s
+        animate.to_gif(tr, gif, frames=DEMO_FRAMES, fps=10, t_stop=6.0,
+                       title="tippe top with its peg", progress=progress)  # fmt: skip
         print(f"wrote {gif}")
     return {
-        "model": pt, "traj": tr, "inversion": inv[0] if inv else None, "drift": drift,
-        "figure": path.name, "track": track.name, "gif": gif.name if gif else None,
+        "model": pt, "traj": tr, "inversion": inv[0] if inv else None, "on_peg": on_peg,
+        "back": back, "drift": drift, "figure": path.name, "track": track.name,
+        "gif": gif.name if gif else None,
     }  # fmt: skip
 
 
@@ -139,7 +144,8 @@ def _demo_atlas(out: Path) -> str:
 
     from . import PlayTop, Viscous, plot
 
-    # The tippe top of _demo_tippe, placed in the (alpha, gamma) atlas.
+    # The atlas is of tops on one tip sphere: the tippe top's ball alone (the preset
+    # "tippe-ball", benchmark T1), placed in the (alpha, gamma) plane.
     m, rho, s = 0.02, 0.02, 0.006
     c = 0.4 * m * rho**2
     pt = PlayTop(m=m, A=0.8 * c, C=c, s=s, rho=rho, friction=Viscous(mu=1.0))
@@ -147,9 +153,9 @@ def _demo_atlas(out: Path) -> str:
     p = pt.predict(pt.state(theta=np.pi - 0.1, psi_dot=150.0))
     end = p.ending
     print(
-        f"kreisel demo: the tippe top lies in zone {cl.zone} (type {cl.type}, Fig. 3 area "
-        f"{cl.fig3}); spun at 150 rad/s near hanging it has J = {p.J:.4g} kg m^2/s and must "
-        f"end {end.kind if end else 'in one of several motions'}"
+        f"kreisel demo: a tippe top's ball alone lies in zone {cl.zone} (type {cl.type}, "
+        f"Fig. 3 area {cl.fig3}); spun at 150 rad/s near hanging it has J = {p.J:.4g} "
+        f"kg m^2/s and must end {end.kind if end else 'in one of several motions'}"
         + (f" with omega3 = {end.omega3:.4g} rad/s" if end else "")
     )
     plt = plot._pyplot()
@@ -231,24 +237,30 @@ def _report(out: Path, top, rows, tippe) -> Path:
         "",
         "![Effective potential of the cusp start](lagrange_effective_potential.png)",
         "",
-        "## A tippe top turning over",
+        "## A tippe top turning over onto its peg",
+        "",
+        "Leine and Glocker's tippe top (Eur. J. Mech. A/Solids 22 (2003) 193; the preset "
+        "`tippe`): a ball of 15 mm with a peg of 5 mm, Coulomb-Contensou friction.",
         "",
         f"`{tippe['model']!r}`",
         "",
     ]
     tr = tippe["traj"]
-    inv = tippe["inversion"]
+    inv, on_peg, back = tippe["inversion"], tippe["on_peg"], tippe["back"]
     lines += [
+        f"- the peg touches down at t = {on_peg:.3f} s" if on_peg is not None
+        else "- the peg never touches the floor",
         f"- u = cos(theta) rises through 0.9 at t = {inv:.3f} s" if inv is not None
         else "- it does not turn over within the run",
-        f"- final u = {tr.u[-1]:.5f}, mode {tr.mode[-1]}",
-        f"- Jellett's integral kept to {tippe['drift']:.1e} (relative)",
+        f"- it falls back onto its ball at t = {back:.3f} s" if back is not None
+        else "- it stays on its peg",
+        f"- final u = {tr.u[-1]:.5f}",
         f"- energy {tr.energy[0]:.5g} J -> {tr.energy[-1]:.5g} J, dissipated "
-        f"{tr.dissipated[-1]:.5g} J",
+        f"{tr.dissipated[-1]:.5g} J (balance kept to {tippe['drift']:.1e} of the start)",
         "",
     ]  # fmt: skip
     if tippe["gif"]:
-        lines += [f"![The tippe top turning over (first 4 s)]({tippe['gif']})", ""]
+        lines += [f"![The tippe top turning over onto its peg (first 6 s)]({tippe['gif']})", ""]
     lines += [
         f"![Time series, contact modes shaded]({tippe['figure']})",
         "",
@@ -256,17 +268,18 @@ def _report(out: Path, top, rows, tippe) -> Path:
         "",
         "## Where it ends: the atlas of play tops",
         "",
-        "The top in the (alpha, gamma) plane of the seed's Figs. 3 and 6, and its J_R(u) with "
-        "the stationary motions open to its Jellett integral.",
+        "The atlas is of tops on one tip sphere: the tippe top's ball alone (the preset "
+        "`tippe-ball`) in the (alpha, gamma) plane (theory: the play top), and its "
+        "J_R(u) with the stationary motions open to its Jellett integral.",
         "",
         f"![Atlas and J_R]({tippe['atlas']})",
         "",
         "## Which tippe tops turn over: a sweep",
         "",
-        f"{tippe['sweep']['runs']} runs over the centre-of-mass offset s and the spin, in the "
-        f"Zarr store `{tippe['sweep']['store']}` (open it with `kreisel.open_sweep`); "
-        f"{tippe['sweep']['turned']} turn over within 5 s. Bigger sweeps: `kreisel sweep "
-        "spec.toml`, on a Dask cluster with `--scheduler`.",
+        f"The ball alone again: {tippe['sweep']['runs']} runs over the centre-of-mass offset s "
+        f"and the spin, in the Zarr store `{tippe['sweep']['store']}` (open it with "
+        f"`kreisel.open_sweep`); {tippe['sweep']['turned']} turn over within 5 s. Bigger "
+        "sweeps: `kreisel sweep spec.toml`, on a Dask cluster with `--scheduler`.",
         "",
         f"![Inversion time over (psi_dot, s)]({tippe['sweep']['figure']})",
         "",

@@ -155,8 +155,8 @@ class LagrangeTop(_Rigid):
         """Effective potential of the nutation (J), vectorised over ``theta`` (rad).
 
         ``Veff = m g l cos(theta) + (Mz - M3 cos(theta))^2 / (2 I1 sin^2(theta)) + M3^2/(2 I3)``,
-        so that ``E = I1 theta_dot^2 / 2 + Veff(theta)``. (The seed also subtracts
-        ``M3^2/(2 I1)``; that term is wrong: it is absent from the energy.)
+        so that ``E = I1 theta_dot^2 / 2 + Veff(theta)``. (Some texts also subtract
+        ``M3^2/(2 I1)``; that term does not belong: it is absent from the energy.)
 
         Examples
         --------

@@ -150,7 +150,7 @@ def atlas(
     curves u_m = 1 (closed, alpha < 7 - 4 sqrt 3), u_m = -1 and J_R(1) = J_R(-1) in closed
     form. Zones 3 and 8 lie at alpha < 0.072: they are shown in an enlarged inset, or alone
     with ``small_alpha=True``. gamma < 1/2 (C > 2A) is hatched: no rigid body has it.
-    Source: the seed's Fig. 6.
+    Source: theory: the atlas of play tops.
     """
     plt = _pyplot()
     if ax is None:
@@ -206,8 +206,9 @@ def vertical_axis_diagram(
     """Stability of spins about a vertical figure axis: C/A against h/rho, where h is the
     height of the centre of mass above the floor (upright: h/rho = 1 + alpha; hanging:
     1 - alpha). The line h/rho = 1 and the hyperbola h/rho = A/C split it into the areas of
-    the seed's Fig. 3: (a) 1 < h/rho <= A/C, (b) A/C <= h/rho < 1, (c) the rest. ``pt``
-    (a PlayTop) is marked at its upright and hanging positions.
+    the vertical-axis diagram (theory: the atlas of play tops): (a) 1 < h/rho <= A/C,
+    (b) A/C <= h/rho < 1, (c) the rest. ``pt`` (a PlayTop) is marked at its upright and
+    hanging positions.
     """
     plt = _pyplot()
     if ax is None:

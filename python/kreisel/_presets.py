@@ -20,7 +20,7 @@ _TOY_SLOW = 8.131813622444362
 # its axle (I1 = m R^2/4 + m l^2); steady precession at theta = pi/2 with omega3 = 600 rad/s.
 _GYRO = {"I1": 3.712e-4, "I3": 1.024e-4, "m": 0.2, "l": 0.04, "g": 9.81}
 _GYRO_RATE = 1.27734375
-# The tippe top of the peg issue: Leine and Glocker's (Eur. J. Mech. A/Solids 22 (2003) 193),
+# The tippe top with its peg: Leine and Glocker's (Eur. J. Mech. A/Solids 22 (2003) 193),
 # theory: bodies of revolution: a ball of 15 mm with a peg of 5 mm radius whose centre is 16 mm
 # from the
 # centre of mass, Coulomb-Contensou friction mu = 0.3 over a patch of 0.5 mm.
@@ -91,7 +91,8 @@ PRESETS = {
     for p in (
         Preset(
             "toy",
-            "toy top: 100 g, c.o.m. 4 cm above the tip, spun at 400 rad/s, released at 0.5 rad",
+            "toy top: 100 g, c.o.m. 4 cm above the tip, spun at 400 rad/s, released at 0.5 rad: "
+            "nutation in cusps",
             {"kind": "lagrange", **_TOY},
             {"theta": 0.5, "psi_dot": 400.0},
             {"t_end": 2.0},
@@ -148,7 +149,8 @@ PRESETS = {
         ),
         Preset(
             "tippe",
-            "tippe top with its peg (Leine & Glocker 2003): turns over onto the peg at 1.4 s",
+            "tippe top with its peg (Leine & Glocker 2003): turns over onto the peg at 1.37 s, "
+            "falls back onto its ball at 4.55 s",
             {
                 "kind": "play",
                 "m": 6e-3,
@@ -168,7 +170,8 @@ PRESETS = {
         ),
         Preset(
             "tippe-ball",
-            "tippe top, its ball alone: 20 g, r = 2 cm, alpha 0.3, gamma 0.8, 150 rad/s",
+            "tippe top, its ball alone: 20 g, r = 2 cm, alpha 0.3, gamma 0.8, 150 rad/s: turns "
+            "over at 2.65 s",
             {
                 "kind": "play",
                 "m": 0.02,
@@ -185,14 +188,16 @@ PRESETS = {
         ),
         Preset(
             "egg",
-            "hard-boiled egg (kreisel.bodies.egg): spun on its side at 80 rad/s, it rises",
+            "hard-boiled egg (kreisel.bodies.egg): spun on its side at 80 rad/s, it rises to "
+            "u = 0.88 in 3 s",
             _body_table(bodies.egg()),
             {"theta": math.pi / 2 - 0.1, "phi_dot": 80.0},
             {"t_end": 3.0, "rtol": 1e-8},
         ),
         _disk_preset(
             "euler-disk",
-            "Euler's disk (kreisel.bodies.disk, steel): rolls, precesses faster, lies flat",
+            "Euler's disk (kreisel.bodies.disk, steel): rolls, precesses faster, lies flat at "
+            "0.96 s",
             0.0375,
             0.0125,
             0.434,
@@ -200,7 +205,7 @@ PRESETS = {
         ),  # fmt: skip
         _disk_preset(
             "coin",
-            "a spinning coin (kreisel.bodies.disk, a 5.67 g quarter) settling flat",
+            "a spinning coin (kreisel.bodies.disk, a 5.67 g quarter) settling flat at 1.70 s",
             0.01213,
             0.00175,
             0.00567,
@@ -209,7 +214,7 @@ PRESETS = {
         Preset(
             "toy-top",
             "toy top (kreisel.bodies.toy_top) below its sleeping threshold: precesses, falls "
-            "on its shoulder, rolls to rest",
+            "on its shoulder at 2.25 s, rolls to rest at 4.02 s",
             _body_table(bodies.toy_top(rolling_resistance=1e-4)),
             {"theta": 0.3, "psi_dot": 120.0},
             {"t_end": 6.0, "rtol": 1e-8, "samples": 3001},
@@ -250,7 +255,8 @@ PRESETS = {
         ),
         Preset(
             "blunt",
-            "blunt tip: a toy top on a 1 cm ball tip (alpha 3), Coulomb mu 0.05: it rises upright",
+            "blunt tip: a toy top on a 1 cm ball tip (alpha 3), Coulomb mu 0.05: it hops, then "
+            "rises upright",
             {"kind": "play", **_TIPPED, "rho": 0.01},
             {"theta": 0.3, "phi_dot": 6.5, "psi_dot": 300.0},
             {"t_end": 5.0},

@@ -261,18 +261,26 @@ def run(problem: Problem, out: Path, *, fmt="netcdf", figures=True, animation=No
     path = out / f"trajectory.{ext}"
     write_trajectory(problem, traj, path, fmt)
     files["trajectory"] = path.name
-    step(1, "drawing figures")
+    step(1, "writing the trajectory")
     if figures:
         files["figures"] = []
         for name in figure_names(problem.kind, getattr(problem.model, "driven", False)):
             p = out / f"{name}.png"
+            step(0, f"drawing {p.name}")
             write_figure(name, problem, traj, p)
             files["figures"].append(p.name)
-            step(1, "drawing figures")
+            step(1, f"drawing {p.name}")
     if animation is not None:
         p = out / f"animation.{animation}"
-        write_animation(problem, traj, p, animation, frames, fps,
-                        progress=lambda n: step(n, "rendering the animation"))  # fmt: skip
+        rendered = [0]
+
+        def frame(n):
+            # the last frame rendered, the file is encoded and written
+            rendered[0] += n
+            last = rendered[0] >= frames
+            step(n, f"writing {p.name}" if last else f"rendering {p.name}")
+
+        write_animation(problem, traj, p, animation, frames, fps, progress=frame)
         files["animation"] = p.name
     data = summary(problem, traj)
     files["summary"] = "summary.json"

@@ -226,7 +226,7 @@ def simulate(
         Event functions (see :mod:`kreisel.events`); adaptive method only.
     reduced : bool
         LagrangeTop only: integrate theta and p_theta alone and rebuild phi and psi from the
-        conserved momenta (the seed's route).
+        conserved momenta (the classical reduction to one degree of freedom).
 
     Returns
     -------

@@ -15,11 +15,26 @@ def real(name: str, value: object) -> float:
     if type(value) is float and math.isfinite(value):
         return value  # the common case, without the checks against the numeric ABCs
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, (numbers.Real, np.floating)):
-        raise ParameterError(f"{name} = {value!r} is not allowed: it must be a real number")
-    x = float(value)
+        raise ParameterError(f"{name} = {shown(value)} is not allowed: it must be a real number")
+    try:
+        x = float(value)
+    except OverflowError:
+        raise ParameterError(
+            f"{name} = {shown(value)} is not allowed: it must be a finite number (a float "
+            "holds at most 1.8e+308)"
+        ) from None
     if not math.isfinite(x):
         raise ParameterError(f"{name} = {x} is not allowed: it must be a finite number")
     return x
+
+
+def shown(value: object) -> str:
+    """``repr(value)``, or for an integer of more than 60 digits its number of digits (Python
+    refuses to print an integer of more than 4300 digits)."""
+    if isinstance(value, numbers.Integral) and abs(int(value)).bit_length() > 200:
+        digits = int(abs(int(value)).bit_length() * math.log10(2)) + 1
+        return f"<an integer of about {digits} digits>"
+    return repr(value)
 
 
 def floats(name: str, value: object) -> np.ndarray:
@@ -54,5 +69,5 @@ def integer(name: str, value: object) -> int:
     """``value`` as a Python int (an int or a numpy integer, not a bool), or a ParameterError
     naming ``name``: quantum numbers and sizes are counted, never measured."""
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, (numbers.Integral, np.integer)):
-        raise ParameterError(f"{name} = {value!r} is not allowed: it must be an integer")
+        raise ParameterError(f"{name} = {shown(value)} is not allowed: it must be an integer")
     return int(value)

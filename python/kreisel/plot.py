@@ -15,6 +15,8 @@ from ._plot_quantum import classical_vs_quantum, spectrum, stark_map  # noqa: F4
 from ._plot_sweep import sweep  # noqa: F401
 
 if TYPE_CHECKING:
+    from collections.abc import Sequence
+
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
     from mpl_toolkits.mplot3d import Axes3D
@@ -134,6 +136,59 @@ def shade_modes(ax: Axes, traj: Trajectory) -> Axes:
                        zorder=0)  # fmt: skip
             start = i
     return ax
+
+
+def parts_panels(
+    axes: Sequence[Axes],
+    traj: Trajectory,
+    colours: dict[tuple[bool, ...], str],
+    names: Sequence[str],
+    weight: float,
+    legend: str = "upper right",
+) -> Sequence[Axes]:
+    """Four panels of a top of several parts against t (a column of four axes, ``axes``):
+    u; the normal force of each part in ``names`` with the weight ``weight`` (N) as a line;
+    ``|omega_3|``; the energy with E + dissipated (mJ). Behind every panel, the times when
+    the parts touch as given by a key of ``colours`` (``{(touching, ...): colour}``, a tuple
+    of booleans for the first parts, in the order of the top's ``shape``) are shaded in its
+    colour. Returns ``axes``.
+
+    Examples
+    --------
+    >>> import matplotlib
+    >>> matplotlib.use("Agg")
+    >>> import matplotlib.pyplot as plt
+    >>> from kreisel import plot, simulate
+    >>> from kreisel._config import from_tables, preset
+    >>> p = from_tables(preset("tippe"))
+    >>> run = simulate(p.model, p.state, 2.0, rtol=1e-9)
+    >>> fig, axes = plt.subplots(4, 1, sharex=True)
+    >>> colours = {(True, False): "#fde3c8", (False, True): "#cfe3f5"}
+    >>> len(plot.parts_panels(axes, run, colours, ["ball", "peg"], p.model.m * 9.81))
+    4
+    """
+    t, touch = traj.t, traj.part_in_contact
+    for ax in axes:
+        for key, colour in colours.items():
+            on = (touch[:, : len(key)] == key).all(axis=1)
+            ax.fill_between(t, 0, 1, where=on, color=colour, transform=ax.get_xaxis_transform(),
+                            linewidth=0)  # fmt: skip
+    axes[0].plot(t, traj.u, color="k")
+    axes[0].set_ylabel("u = cos(theta)")
+    for i, name in enumerate(names):
+        axes[1].plot(t, traj.part_normal_force[:, i], label=name)
+    axes[1].axhline(weight, color="grey", lw=0.6)
+    axes[1].set_ylabel("normal force (N)")
+    axes[1].legend(loc=legend)
+    axes[2].plot(t, abs(traj.omega[:, 2]), color="k", label="|omega_3|")
+    axes[2].set_ylabel("|omega_3| (rad/s)")
+    axes[3].plot(t, traj.energy * 1e3, color="k", label="E")
+    axes[3].plot(t, (traj.energy + traj.dissipated) * 1e3, color="grey", ls="--",
+                 label="E + dissipated")  # fmt: skip
+    axes[3].set_ylabel("energy (mJ)")
+    axes[3].set_xlabel("t (s)")
+    axes[3].legend(loc=legend)
+    return axes
 
 
 def play_time_series(traj: Trajectory, fig: Figure | None = None) -> Figure:

@@ -138,7 +138,7 @@ class Torus:
     """A ring about the figure axis in the plane at ``z`` (m): ``major`` the radius of the
     tube's centre line, ``minor`` the tube's radius (0: a sharp circular edge, a coin's or a
     disk's rim, whose contact point moves along the rim). Lying flat (the axis vertical) the
-    whole rim is lowest; a run of a top that settles flat needs issue 15's ``flat`` event.
+    whole rim is lowest; a run of a top that settles flat needs the ``flat`` event.
 
     Examples
     --------

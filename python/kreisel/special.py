@@ -1,7 +1,7 @@
 """Special functions of kreisel's core, for users and for checking.
 
-Parameter convention ``m = k**2`` throughout (as scipy.special). Array arguments may have
-any shape; the result has the same shape.
+Parameter convention ``m = k**2`` throughout (as :mod:`scipy.special`). Array arguments may
+have any shape; the result has the same shape.
 
 - :func:`ellipj` -- Jacobi elliptic functions sn, cn, dn and the amplitude am.
 - :func:`ellipk` -- complete elliptic integral of the first kind K(m).

@@ -1,4 +1,4 @@
-"""Defects of the simulation stack that the fuzz campaign found (issue 19), each as its
+"""Defects of the simulation stack that the fuzz campaign found, each as its
 minimal reproducer, fixed by the one-stack rewrite. Each runs in a child process with a time
 limit: before the fix some hung, some panicked.
 """
@@ -37,8 +37,8 @@ def clean(result: str) -> bool:
     return result == "ok" or result.startswith("error: KreiselError:")
 
 
-def test_item2_coulomb_drop_with_restitution_zero_finishes():
-    """Issue 19 item 2: a dropped Coulomb top with restitution 0 never gets past
+def test_a_coulomb_drop_with_restitution_zero_finishes():
+    """A dropped Coulomb top with restitution 0 never gets past
     touchdown (restitution 0.5 or Viscous finish in 0.1 s)."""
     r = outcome("""
         top = kreisel.PlayTop(0.021293769673452253, 5.188850311006383e-08, 7.854825969180615e-08,
@@ -52,8 +52,8 @@ def test_item2_coulomb_drop_with_restitution_zero_finishes():
 
 
 @pytest.mark.parametrize("method", ["rk4", "splitting", "verlet", "midpoint", "gauss4"])
-def test_item3_fixed_steps_of_1e300_are_refused_not_run(method):
-    """Issue 19 item 3: a fixed-step run with dt = 1e-300 never returns; the step count
+def test_fixed_steps_of_1e300_are_refused_not_run(method):
+    """A fixed-step run with dt = 1e-300 never returns; the step count
     t_end/dt must be bounded with a clear error."""
     r = outcome(f"""
         top = kreisel.LagrangeTop(1.0, 0.5, 1.0, 0.1)
@@ -63,8 +63,8 @@ def test_item3_fixed_steps_of_1e300_are_refused_not_run(method):
 
 
 @pytest.mark.parametrize("event", ["rest()", "inversion(0.9)"])
-def test_item5_play_top_events_on_a_pivot_top_are_errors_not_panics(event):
-    """Issue 19 item 5 (found again by the campaign on heavy tops): a play-top event on a
+def test_play_top_events_on_a_pivot_top_are_errors_not_panics(event):
+    """(Found again by the campaign on heavy tops.) A play-top event on a
     top on a pivot raises PanicException ('built-in events only ... unknown event kind')."""
     r = outcome(f"""
         top = kreisel.LagrangeTop(1.75e-4, 2e-5, 0.1, 0.04)
@@ -75,8 +75,8 @@ def test_item5_play_top_events_on_a_pivot_top_are_errors_not_panics(event):
 
 
 @pytest.mark.parametrize("kind", ["heavy", "play"])
-def test_item6_empty_output_times_give_empty_columns_or_an_error(kind):
-    """Issue 19 item 6: t_eval=[] lets a heavy-top run succeed and then reading a column
+def test_empty_output_times_give_empty_columns_or_an_error(kind):
+    """t_eval=[] lets a heavy-top run succeed and then reading a column
     raises KeyError; a play top raises IndexError."""
     make = {
         "heavy": "top = kreisel.LagrangeTop(1.0, 0.5, 1.0, 0.1)\n"
@@ -96,7 +96,7 @@ def test_item6_empty_output_times_give_empty_columns_or_an_error(kind):
 
 
 def test_kovalevskaya_integral_of_a_tiny_centre_of_mass_is_finite():
-    """Issue 19 item 9 (models/heavy_top.rs): r = sqrt(c1^2 + c2^2) underflows for
+    """models/heavy_top.rs: r = sqrt(c1^2 + c2^2) underflows for
     |com| = 1e-200 and the Kovalevskaya integral is NaN (hypot would keep it)."""
     r = outcome("""
         h = kreisel.HeavyTop(2.0, 2.0, 1.0, 1.0, [1e-200, 0.0, 0.0])

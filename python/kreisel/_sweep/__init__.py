@@ -46,7 +46,7 @@ from . import schedule
 from .run import compute_chunk
 from .schedule import DASK_ENV, _client, _Work, dask_command
 from .spec import SweepSpec, load_spec
-from .store import _create, _is_path, _open_existing, _Writer, open_sweep
+from .store import _create, _is_path, _open_existing, _Writer, open_sweep, shown
 
 if TYPE_CHECKING:
     import os
@@ -142,7 +142,11 @@ def sweep(
     [1, 1, 1]
     """
     import zarr
-    from tqdm.auto import tqdm
+
+    if progress:
+        from tqdm.auto import tqdm
+    else:  # tqdm.auto warns in a notebook without ipywidgets, even for a bar never shown
+        from tqdm.std import tqdm
 
     from .._batch import _threads
 
@@ -159,8 +163,8 @@ def sweep(
         if root is not None and root.attrs.get("spec") != sp.canonical():
             if not overwrite:
                 raise ParameterError(
-                    f"store = {store!r} holds another sweep (its spec differs): give a new "
-                    "store, or overwrite=True to replace it"
+                    f"store = {shown(store)} holds another sweep (its spec differs): give a "
+                    "new store, or overwrite=True (kreisel sweep --overwrite) to replace it"
                 )
             if _is_path(store):
                 shutil.rmtree(store)

@@ -203,7 +203,7 @@ class SweepSpec:
                 f"{head}{sorted(both)[0]} is swept in both [grid] and [random]: choose one"
             )
         if not grid and not random:
-            # a field that is wrong is the first thing to say (issue 19, item 13)
+            # a field that is wrong is the first thing to say
             if all(k in top for k in _config.required(kind, top)):
                 model = _config._model(kind, dict(top), f"{head}[top] ")
                 _config._state(kind, model, dict(state), f"{head}[state] ")

@@ -23,6 +23,11 @@ def _is_path(store) -> bool:
     return isinstance(store, (str, os.PathLike))
 
 
+def shown(store) -> str:
+    """A store as a message shows it: a folder as its path in quotes (not PosixPath(...))."""
+    return repr(os.fspath(store)) if _is_path(store) else repr(store)
+
+
 def _open_existing(store):
     """The root group of an existing kreisel sweep store, None if there is none, and an
     error if something else is there."""
@@ -33,7 +38,7 @@ def _open_existing(store):
         if not p.exists():
             return None
         if not p.is_dir():
-            raise ParameterError(f"store = {str(p)!r} is not allowed: it is a file, not a store")
+            raise ParameterError(f"store = {shown(p)} is not allowed: it is a file, not a store")
         if not any(p.iterdir()):
             return None
     try:
@@ -41,7 +46,7 @@ def _open_existing(store):
     except (FileNotFoundError, ValueError, KeyError, zarr.errors.BaseZarrError) as e:
         if _is_path(store):
             raise ParameterError(
-                f"store = {str(store)!r} is not allowed: it exists and is not a kreisel sweep "
+                f"store = {shown(store)} is not allowed: it exists and is not a kreisel sweep "
                 f"store ({type(e).__name__}); kreisel leaves it as it is"
             ) from None
         return None
@@ -49,8 +54,8 @@ def _open_existing(store):
         if not _is_path(store) and not list(root.keys()):
             return None
         raise ParameterError(
-            f"store = {store!r} is not allowed: it is not a kreisel sweep store; kreisel leaves "
-            "it as it is"
+            f"store = {shown(store)} is not allowed: it is not a kreisel sweep store; kreisel "
+            "leaves it as it is"
         )
     return root
 
@@ -179,7 +184,7 @@ def open_sweep(store: str | os.PathLike[str] | Any) -> xr.Dataset:
 
     root = _open_existing(store)
     if root is None:
-        raise ParameterError(f"store = {store!r} is not allowed: there is no sweep there")
+        raise ParameterError(f"store = {shown(store)} is not allowed: there is no sweep there")
     ds = xr.open_zarr(store, consolidated=False, chunks=None).load()
     done = ds["chunk_done"].values
     ds = ds.drop_vars("chunk_done")

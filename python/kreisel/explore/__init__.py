@@ -8,6 +8,7 @@ package only when ``kreisel explore`` runs, so ``import kreisel`` needs no web f
 
 from __future__ import annotations
 
+import errno
 import socket
 import threading
 import webbrowser
@@ -26,6 +27,11 @@ def bind(port: int) -> socket.socket:
         sock.bind((HOST, port))
     except OSError as e:
         sock.close()
+        if e.errno == errno.EADDRINUSE:
+            raise ParameterError(
+                f"port = {port} is busy: another program listens on {HOST}:{port}; give "
+                "another port (0: any free one)"
+            ) from None
         raise ParameterError(f"port = {port} is not allowed: {HOST}:{port} {e.strerror}") from None
     sock.listen(128)
     return sock

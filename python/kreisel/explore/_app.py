@@ -14,6 +14,7 @@ from starlette.routing import Mount, Route
 from starlette.staticfiles import StaticFiles
 
 from .._errors import KreiselError, ParameterError
+from .._extras import missing_message
 from . import _api, _jobs
 from ._guard import BodyTooLarge, LoopbackGuard
 
@@ -70,15 +71,14 @@ def create_app(port: int, store: Path | None = None) -> LoopbackGuard:
                 # sweeps need zarr, NetCDF needs xarray: optional dependencies
                 if e.name is None or e.name.split(".")[0] == "kreisel":
                     raise
-                message = f"this needs the package {e.name!r}, which is not installed: "
-                return JSONResponse({"error": message + "pip install 'kreisel[cli]'"}, 501)
+                return JSONResponse({"error": missing_message(e.name)}, 501)
             if isinstance(result, _api.File):
                 return Response(
                     result.content,
                     media_type=result.media,
                     headers={"content-disposition": f'attachment; filename="{result.name}"'},
                 )
-            return JSONResponse(result)
+            return result if isinstance(result, Response) else JSONResponse(result)
 
         return endpoint
 

@@ -232,3 +232,15 @@ def test_random_driven_tops_keep_their_balance():
 def test_bad_amplitudes_are_named(amplitude):
     with pytest.raises(ParameterError, match="amplitude"):
         pivots.Harmonic(amplitude, 10.0)
+
+
+def test_samples_too_close_for_a_spline_are_named():
+    t = [2.2250738585072014e-308, 6.076014641140883e-283, 0.725, 1.5]
+    with pytest.raises(ParameterError, match=r"^t is not allowed: its samples are too close"):
+        pivots.Path(t, np.zeros((4, 3)))
+
+
+@pytest.mark.parametrize("name", ["viscous", "drag", "dry", "pivot_radius"])
+def test_damping_outside_the_cores_range_is_named(name):
+    with pytest.raises(ParameterError, match=rf"^{name} = 1e-165 is not allowed"):
+        PivotDamping(**{name: 1e-165})

@@ -323,14 +323,23 @@ class Path(_Pivot):
 
         ends = [(1, 0.0), (2, 0.0), (3, 0.0)]
         cs = []
-        for d in range(3):  # PPoly.from_spline takes one coordinate at a time
-            spline = make_interp_spline(ts, xs[:, d], k=7, bc_type=(ends, ends))
-            pp = PPoly.from_spline(spline)
-            # keep the intervals between samples (from_spline pads with repeated knots)
-            keep = (pp.x[:-1] >= ts[0]) & (pp.x[:-1] < ts[-1]) & (np.diff(pp.x) > 0)
-            cs.append(pp.c[:, keep])
-            x = np.r_[pp.x[:-1][keep], ts[-1]]
-        c = np.stack(cs, axis=-1)
+        try:
+            for d in range(3):  # PPoly.from_spline takes one coordinate at a time
+                spline = make_interp_spline(ts, xs[:, d], k=7, bc_type=(ends, ends))
+                pp = PPoly.from_spline(spline)
+                # keep the intervals between samples (from_spline pads with repeated knots)
+                keep = (pp.x[:-1] >= ts[0]) & (pp.x[:-1] < ts[-1]) & (np.diff(pp.x) > 0)
+                cs.append(pp.c[:, keep])
+                x = np.r_[pp.x[:-1][keep], ts[-1]]
+            c = np.stack(cs, axis=-1)
+        except (ValueError, np.linalg.LinAlgError):  # a singular or overflowing system
+            c = np.array([np.nan])
+        if not np.isfinite(c).all():
+            gap = float(np.diff(ts).min())
+            raise ParameterError(
+                f"t is not allowed: its samples are too close (the smallest step is {gap!r} s) "
+                "for the spline through them to be computed in floating point"
+            )
         self._t, self._x = ts, xs
         self._ppoly = PPoly(c, x, extrapolate=False)
         self._d1 = self._ppoly.derivative(1)
@@ -438,9 +447,11 @@ class PivotDamping:
             ("pivot_radius", pivot_radius),
         ):
             v = real(name, value)
-            if not (v >= 0.0 and v <= 1e100):
+            # the core's range of every parameter: 0, or within [1e-100, 1e100]
+            if not (v == 0.0 or 1e-100 <= v <= 1e100):
                 raise ParameterError(
-                    f"{name} = {v!r} is not allowed: it must be a finite number >= 0"
+                    f"{name} = {v!r} is not allowed: it must be 0 or a finite number within "
+                    "[1e-100, 1e+100]"
                 )
             object.__setattr__(self, name, abs(v))
 

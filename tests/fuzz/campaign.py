@@ -91,15 +91,57 @@ def mutated(draw, params: dict, rate=4):
 
 
 @st.composite
+def drive_params(draw):
+    """A moving or damped pivot (1 time in 4), as plain data: ``{"pivot": (kind, ...),
+    "damping": (viscous, drag, dry, pivot_radius)}``, some of it hostile."""
+    out = {}
+    if draw(st.integers(0, 3)) == 0:
+        kind = draw(st.sampled_from(["harmonic", "harmonic", "path", "hostile"]))
+        if kind == "harmonic":
+            amp = [draw(nice(-0.05, 0.05, 0.0)) for _ in range(3)]
+            phase = draw(st.one_of(nice(-7.0, 7.0), st.lists(nice(-7.0, 7.0), min_size=3,
+                                                             max_size=3)))  # fmt: skip
+            out["pivot"] = ("harmonic", amp, draw(nice(0.0, 200.0, 0.0, 1e9)), phase)
+        elif kind == "path":
+            n = draw(st.integers(1, 8))
+            t = sorted(draw(st.lists(nice(0.0, 2.0), min_size=n, max_size=n)))
+            pos = [[draw(nice(-0.05, 0.05)) for _ in range(3)] for _ in range(n)]
+            out["pivot"] = ("path", t, pos)
+        else:
+            out["pivot"] = draw(any_value)
+    if draw(st.integers(0, 3)) == 0:
+        d = tuple(draw(nice(0.0, 0.1, 0.0)) for _ in range(4))
+        out["damping"] = d if draw(st.integers(0, 4)) else draw(any_value)
+    return out
+
+
+def _drive(p):
+    """The pivot and damping keywords of drawn data (hostile values passed as they are)."""
+    import kreisel
+    from kreisel import pivots
+
+    p = dict(p)
+    pv = p.get("pivot")
+    if isinstance(pv, tuple) and pv and pv[0] == "harmonic":
+        p["pivot"] = pivots.Harmonic(pv[1], pv[2], pv[3])
+    elif isinstance(pv, tuple) and pv and pv[0] == "path":
+        p["pivot"] = pivots.Path(pv[1], pv[2])
+    d = p.get("damping")
+    if isinstance(d, tuple) and len(d) == 4:
+        p["damping"] = kreisel.PivotDamping(*d)
+    return p
+
+
+@st.composite
 def lagrange_params(draw, rate=4):
     i1 = draw(nice(0.01, 10.0, 1.0))
     i3 = i1 * draw(nice(0.01, 2.0, 2.0, 1.0))  # I3 = 2 I1: the flat limit
     m = draw(nice(0.01, 10.0, 1.0))
     frac = draw(nice(-1.0, 1.0, 0.0, 1.0, -1.0, 1e-100))
-    return draw(
+    return {**draw(
         mutated({"I1": i1, "I3": i3, "m": m, "l": frac * math.sqrt(i1 / m) * (1 - 1e-9),
                  "g": draw(st.sampled_from([9.81, 0.0, 1.0, 1e-3]))}, rate)
-    )  # fmt: skip
+    ), **draw(drive_params())}  # fmt: skip
 
 
 @st.composite
@@ -121,7 +163,7 @@ def heavy_params(draw, rate=4):
             com = [draw(nice(-0.2, 0.2)) for _ in range(3)]
     p = {"I1": i1, "I2": i2, "I3": i3, "m": draw(nice(0.1, 5.0, 1.0)), "com": com,
          "g": draw(st.sampled_from([9.81, 0.0, 1.0]))}  # fmt: skip
-    return draw(mutated(p, rate))
+    return {**draw(mutated(p, rate)), **draw(drive_params())}
 
 
 FRICTIONS = st.one_of(
@@ -214,13 +256,13 @@ def times(t_max=2.0):
 def _make_lagrange(p):
     import kreisel
 
-    return kreisel.LagrangeTop(**p)
+    return kreisel.LagrangeTop(**_drive(p))
 
 
 def _make_heavy(p):
     import kreisel
 
-    return kreisel.HeavyTop(**p)
+    return kreisel.HeavyTop(**_drive(p))
 
 
 def _make_play(p):
@@ -800,7 +842,10 @@ def _names(args) -> set[str]:
     out |= {"state", "q", "omega", "t", "u", "quaternion", "mu", "friction", "spec", "J",
             "height", "vx", "vy", "states", "models", "t_eval", "dt", "events", "rtol", "atol",
             "t_end", "method", "theta0", "omega3", "rate", "tau", "c0", "c1", "c2", "c3",
-            "com", "store", "phi", "n", "m", "theta", "threads"}  # fmt: skip
+            "com", "store", "phi", "n", "m", "theta", "threads",
+            # a pivot's and its damping's fields (drawn as plain data)
+            "pivot", "damping", "amplitude", "phase", "position", "viscous", "drag", "dry",
+            "pivot_radius"}  # fmt: skip
     return out
 
 

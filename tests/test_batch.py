@@ -92,3 +92,16 @@ def test_progress_bar_changes_no_result(capsys):
     a = kreisel.simulate_many(top, hs, 0.5)
     b = kreisel.simulate_many(top, hs, 0.5, progress=True)
     np.testing.assert_array_equal(a.theta_max, b.theta_max)
+
+
+def test_a_batch_refuses_at_once_a_run_its_pace_cannot_finish():
+    """A Lagrange top spun about the vertical at 1e8 rad/s needs ~1.7e8 steps a second (its
+    first 1e-4 s take 17288): more than the step limit, so a batch refuses it by its pace, as
+    simulate does, instead of running to the limit (half a minute) and failing there."""
+    top = kreisel.LagrangeTop(I1=0.0125, I3=0.005, m=0.5, l=0.1)
+    s = top.state(theta=0.5, phi_dot=1e8)
+    probe = kreisel.simulate(top, s, 1e-4, t_eval=[0.0, 1e-4])
+    assert probe.stats["steps"] / 1e-4 > kreisel._simulate.names()["max_steps"]
+    res = kreisel.simulate_many([top, top], s, 1.0)
+    for e in res.errors:
+        assert e.startswith("t_end = 1.0 is not allowed: at the pace of its first"), e

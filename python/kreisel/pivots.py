@@ -48,6 +48,8 @@ __all__ = ["Fixed", "Harmonic", "Path", "Pivot", "PivotDamping", "pivot_from_dic
 
 # The largest pivot excursion taken (m): a pivot shaken by more than this is no top's.
 LENGTH_MAX = 1e6
+# The fastest shaking taken (rad/s, 160 kHz): every period takes an integrator several steps.
+OMEGA_MAX = 1e6
 
 
 def _vector3(name: str, value, unit: str = "m") -> tuple[float, float, float]:
@@ -166,7 +168,7 @@ class Harmonic(_Pivot):
         Amplitude vector (m, space frame, z up): ``[0, 0, a]`` shakes vertically,
         ``[a, 0, 0]`` horizontally.
     omega : float
-        Angular frequency (rad/s), in [0, 1e9].
+        Angular frequency (rad/s), in [0, 1e6].
     phase : float or sequence of 3 floats
         Phase at t = 0 (rad): one number moves every component in step (a straight
         stroke); one per component gives an ellipse, e.g. ``amplitude=[a, a, 0]``,

@@ -253,11 +253,11 @@ impl Pivot {
         for (i, &a) in amplitude.iter().enumerate() {
             finite(&format!("amplitude[{i}]"), a)?;
         }
-        if !(0.0..=1e9).contains(&omega) {
+        if !(0.0..=1e6).contains(&omega) {
             return Err(KreiselError::invalid(
                 "omega",
                 omega,
-                "it must be a finite angular frequency in [0, 1e9] rad/s",
+                "it must be a finite angular frequency in [0, 1e6] rad/s",
             ));
         }
         for (i, &p) in phase.iter().enumerate() {

@@ -219,8 +219,19 @@ pub fn lyapunov_with<M: Segments>(
         }
         sum += (dist / settings.d0).ln();
         let t = i as f64 * tau;
+        let running = sum / t;
+        if !running.is_finite() {
+            // ln(d / d0) is a rounding's size over a time too short to divide by
+            return Err(KreiselError::invalid(
+                "tau",
+                tau,
+                format!(
+                    "the estimate over {tau:e} s is {running}: the separation does not grow                      measurably in so short a time; give a longer tau and t_end"
+                ),
+            ));
+        }
         res.t.push(t);
-        res.running.push(sum / t);
+        res.running.push(running);
         b = displace(&a, &d.map(|x| x * settings.d0 / dist));
     }
     res.exponent = *res.running.last().expect("n >= 1");
@@ -289,6 +300,12 @@ mod tests {
             .unwrap_err()
             .to_string()
             .contains("d0"));
+        let mut st = settings(5e-324);
+        st.tau = 5e-324;
+        assert!(lyapunov(&top, &s, &st)
+            .unwrap_err()
+            .to_string()
+            .starts_with("tau = 5e-324"));
         let mut st = settings(10.0);
         st.direction = [0.0; 6];
         assert!(lyapunov(&top, &s, &st)

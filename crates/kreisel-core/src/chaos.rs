@@ -300,9 +300,18 @@ mod tests {
             .unwrap_err()
             .to_string()
             .contains("d0"));
+        // a free asymmetric top whose separation after 5e-324 s is d0 less a rounding: the
+        // estimate ln(d / d0) / t would be -inf
+        let free = HeavyTop::new(1.0, 1.2, 1.5, 1.0, [0.1, 0.0, 0.2], 0.0).unwrap();
+        let tilted = RigidState::new(
+            crate::rotation::quaternion_from_euler(0.0, 0.5, 0.0).0,
+            [0.0, 0.0, 3.0],
+        )
+        .unwrap();
         let mut st = settings(5e-324);
         st.tau = 5e-324;
-        assert!(lyapunov(&top, &s, &st)
+        st.direction = [1.0; 6];
+        assert!(lyapunov(&free, &tilted, &st)
             .unwrap_err()
             .to_string()
             .starts_with("tau = 5e-324"));

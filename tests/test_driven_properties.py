@@ -244,3 +244,17 @@ def test_samples_too_close_for_a_spline_are_named():
 def test_damping_outside_the_cores_range_is_named(name):
     with pytest.raises(ParameterError, match=rf"^{name} = 1e-165 is not allowed"):
         PivotDamping(**{name: 1e-165})
+
+
+def test_the_animation_carries_the_top_on_its_moving_pivot():
+    """A drawn frame puts the body's origin (and the post under it) where the pivot is: the
+    Kapitza rod's pivot, computed here from its shaking, at the frames' times."""
+    from kreisel import animate
+
+    top = kreisel.LagrangeTop(I1=0.1 * 0.2**2 / 3, I3=1.25e-6, m=0.1, l=0.1,
+                              pivot=pivots.Harmonic([0.0, 0.0, 0.01], 200.0))  # fmt: skip
+    traj = kreisel.simulate(top, top.state(theta=0.1), 0.05, t_eval=np.linspace(0, 0.05, 501))
+    frames = animate.sample(traj, 6)
+    want = np.c_[np.zeros((6, 2)), 0.01 * np.cos(200.0 * frames.t)]
+    np.testing.assert_allclose(frames.origin, want, rtol=0, atol=2e-5)  # linear between rows
+    assert animate.render(traj, frames=2, size_px=120)[1].shape == (120, 120, 3)

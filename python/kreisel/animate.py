@@ -343,7 +343,10 @@ def _at(traj, model, t) -> Frames:
         q = _slerp(t, ts, np.asarray(traj.quaternion, dtype=float))
     rot = _rotation(q)
     if "contact_point" not in cols:
-        return Frames(t, rot, np.zeros((len(t), 3)), None, None)
+        # a top on a pivot: the body's origin is the pivot, which may move
+        moving = "pivot_position" in cols and len(ts) > 1
+        origin = _interp(t, ts, traj.pivot_position) if moving else np.zeros((len(t), 3))
+        return Frames(t, rot, origin, None, None)
     com = _interp(t, ts, traj.com)
     origin = com - model.s * rot[:, :, 2]
     contact = _interp(t, ts, traj.contact_point)
@@ -418,10 +421,13 @@ class _Scene:
             lo_z, hi_z = 0.0, 2.0 * self.half
         else:
             self.follow = False
-            self.half = 1.1 * size
+            # a moving pivot: the view holds the body wherever the pivot takes it
+            travel = np.ptp(frames.origin, axis=0)
+            self.half = 1.1 * size + 0.5 * float(travel[:2].max())
             allz = frames.rotation[:, 2, :] @ (self.vert.reshape(-1, 3).T)
-            lo_z = min(float(allz.min()), -0.35 * size) - 0.05 * size
-            hi_z = max(float(allz.max()), 0.2 * size) + 0.05 * size
+            oz = frames.origin[:, 2]
+            lo_z = min(float(allz.min()), -0.35 * size) + float(oz.min()) - 0.05 * size
+            hi_z = max(float(allz.max()), 0.2 * size) + float(oz.max()) + 0.05 * size
         self.zlim = (lo_z, hi_z)
         ax.set_zlim(*self.zlim)
         centre = self._centre(0)
@@ -451,15 +457,19 @@ class _Scene:
         else:
             h = 0.35 * size
             ang = np.linspace(0, 2 * np.pi, 25)
-            post = [
+            self.post_shape = np.array([
                 [(0.0, 0.0, 0.0), (0.12 * h * np.cos(a), 0.12 * h * np.sin(a), -h),
                  (0.12 * h * np.cos(b), 0.12 * h * np.sin(b), -h)]
                 for a, b in zip(ang[:-1], ang[1:])
-            ]  # fmt: skip
-            ax.add_collection3d(
-                Poly3DCollection(post, facecolor=(0.45, 0.45, 0.48), edgecolor="none")
-            )
-            ax.plot([0], [0], [0], marker="o", color="k", ms=3)
+            ])  # fmt: skip
+            # the post carries the pivot, and moves with it where it moves
+            self.post = Poly3DCollection(
+                list(self.post_shape + frames.origin[0]), facecolor=(0.45, 0.45, 0.48),
+                edgecolor="none",
+            )  # fmt: skip
+            ax.add_collection3d(self.post)
+            (self.pivot_mark,) = ax.plot(*([x] for x in frames.origin[0]), marker="o",
+                                         color="k", ms=3)  # fmt: skip
         self.body = Poly3DCollection([], edgecolor="none", linewidth=0, zorder=4)
         ax.add_collection3d(self.body)
         (self.axis_trace,) = ax.plot([], [], [], color="#6a3d9a", lw=1.0, zorder=3.5)
@@ -522,9 +532,12 @@ class _Scene:
             self.track.set_data_3d(track[:, 0], track[:, 1], track[:, 2])
             tr = self._in_view(tr, c)
         self.axis_trace.set_data_3d(tr[:, 0], tr[:, 1], tr[:, 2])
+        if not self.play:
+            self.post.set_verts(list(self.post_shape + origin))
+            self.pivot_mark.set_data_3d([origin[0]], [origin[1]], [origin[2]])
         if self.shape.rod:
-            p = rot @ self.shape.centre
-            self.rod.set_data_3d(np.array([0, p[0]]), np.array([0, p[1]]), np.array([0, p[2]]))
+            p = rot @ self.shape.centre + origin
+            self.rod.set_data_3d(*(np.array([o, x]) for o, x in zip(origin, p)))
         label = f"t = {f.t[i]:.3f} s"
         if f.modes is not None:
             label += f"   ({f.modes[i]})"

@@ -88,8 +88,8 @@ def poincare(
         period = getattr(pivot, "period", None)
         if period is None:
             raise ParameterError(
-                "period is missing: this top's pivot has no period (give period=..., or "
-                "event=... for a section at an event)"
+                "period is missing: this top has no periodic pivot (give period=..., or "
+                "event=... with t_end=... for a section at an event)"
             )
     period = real("period", period)
     if not period > 0:

@@ -94,7 +94,7 @@ pub struct StationaryMotion {
     pub energy: f64,
 }
 
-/// The top types of the seed's Fig. 6.
+/// The top types of the atlas (theory: the atlas of play tops).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum TopType {
     /// 1 - alpha^2 <= gamma < 1 + alpha.
@@ -126,7 +126,7 @@ pub struct Classification {
     pub top_type: TopType,
     /// Zone 1..8 (theory: play top).
     pub zone: u8,
-    /// Area of the vertical-axis diagram (the seed's Fig. 3): 'a', 'b' or 'c'.
+    /// Area of the vertical-axis diagram (theory: the atlas of play tops): 'a', 'b' or 'c'.
     pub fig3: char,
 }
 
@@ -182,7 +182,7 @@ fn ends_difference(alpha: f64, gamma: f64) -> f64 {
 }
 
 /// Classifies a top by `alpha = s/rho > 0` and `gamma = A/C > 0` (theory: play top;
-/// the seed's Figs. 3 and 6).
+/// the atlas of play tops).
 pub fn classify(alpha: f64, gamma: f64) -> Result<Classification> {
     check_alpha_gamma(alpha, gamma)?;
     let fig3 = if gamma >= 1.0 + alpha {

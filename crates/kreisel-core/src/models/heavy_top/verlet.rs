@@ -1,5 +1,5 @@
 //! Stoermer-Verlet on the canonical Euler-angle Hamiltonian of the symmetric heavy top,
-//! the route the seed proposes.
+//! the classical route (Goldstein, *Classical Mechanics*, Sec. 5.7; theory: the Lagrange top).
 //!
 //! With the conserved momenta p_phi = Mz and p_psi = M3,
 //! `H = p_theta^2 / (2 I1) + U(theta)` with
@@ -136,7 +136,7 @@ impl FixedScheme for Verlet {
 }
 
 /// The same Euler-angle Hamiltonian as a first-order system in y = (theta, p_theta, phi,
-/// psi), for the general-purpose integrators: the seed's reduced route, where only the
+/// psi), for the general-purpose integrators: the reduced route, where only the
 /// nutation is integrated and phi, psi follow from the conserved momenta.
 impl crate::integrate::OdeSystem<4> for Verlet {
     fn rhs(&self, _t: f64, y: &[f64; 4], dy: &mut [f64; 4]) {

@@ -161,8 +161,8 @@ impl LagrangeTop {
     ///
     /// `Veff = m g l cos(theta) + (Mz - M3 cos(theta))^2 / (2 I1 sin^2(theta)) + M3^2 / (2 I3)`.
     ///
-    /// (The seed's "full" form subtracts `M3^2/(2 I1)` as well; that term does not belong:
-    /// the kinetic energy of the spin is `M3^2/(2 I3)`.) Infinite at theta = 0, pi unless
+    /// (A "full" form seen in some notes subtracts `M3^2/(2 I1)` as well; that term does not
+    /// belong: the kinetic energy of the spin is `M3^2/(2 I3)`; theory: the Lagrange top.) Infinite at theta = 0, pi unless
     /// Mz = +-M3 there, where the limit is taken; next to them it is +inf where it exceeds
     /// the range of f64. Never NaN: `theta` must be finite, and `M3` and `Mz` those of
     /// rates within [`RATE_MAX`](crate::error::RATE_MAX) (`|M3| <= I3 RATE_MAX`,

@@ -12,6 +12,7 @@ from . import _core
 from ._errors import ParameterError, ParameterTypeError
 from ._state import EulerState
 from ._validate import real
+from ._validate import vector as _vector
 
 if TYPE_CHECKING:
     from numpy.typing import ArrayLike
@@ -61,18 +62,6 @@ class RigidState:
 
     def __hash__(self) -> int:
         return hash((tuple(self.quaternion), tuple(self.omega)))
-
-
-def _vector(name: str, value, n: int) -> list[float]:
-    try:
-        arr = np.asarray(value, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise ParameterError(f"{name} = {value!r} is not allowed: it must be {n} numbers") from None
-    if arr.shape != (n,):
-        raise ParameterError(
-            f"{name} has shape {arr.shape}, which is not allowed: it must be {n} numbers"
-        )
-    return [real(f"{name}[{i}]", x) for i, x in enumerate(arr)]
 
 
 def _binary_scaled(q: list[float]) -> list[float]:

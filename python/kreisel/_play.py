@@ -9,8 +9,8 @@ import numpy as np
 
 from . import _atlas, _core
 from ._errors import ParameterError, ParameterTypeError
-from ._heavy import _vector
 from ._validate import real
+from ._validate import vector as _vector
 from .shapes import Part, Sphere, _named
 
 if TYPE_CHECKING:

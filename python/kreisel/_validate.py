@@ -71,3 +71,16 @@ def integer(name: str, value: object) -> int:
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, (numbers.Integral, np.integer)):
         raise ParameterError(f"{name} = {shown(value)} is not allowed: it must be an integer")
     return int(value)
+
+
+def vector(name: str, value, n: int) -> list[float]:
+    """``n`` finite numbers, each checked by name (``name[i]``)."""
+    try:
+        arr = np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise ParameterError(f"{name} = {value!r} is not allowed: it must be {n} numbers") from None
+    if arr.shape != (n,):
+        raise ParameterError(
+            f"{name} has shape {arr.shape}, which is not allowed: it must be {n} numbers"
+        )
+    return [real(f"{name}[{i}]", x) for i, x in enumerate(arr)]

@@ -39,6 +39,7 @@ import numpy as np
 
 from ._errors import ParameterError
 from ._validate import real
+from ._validate import vector as _vector
 
 if TYPE_CHECKING:
     from numpy.typing import ArrayLike
@@ -53,26 +54,16 @@ OMEGA_MAX = 1e6
 
 
 def _vector3(name: str, value, unit: str = "m") -> tuple[float, float, float]:
-    """Three finite numbers of magnitude at most LENGTH_MAX (in ``unit``)."""
-    what = "x, y, z in metres" if unit == "m" else f"one per component, in {unit}"
-    try:
-        arr = np.asarray(value, dtype=np.float64)
-    except (TypeError, ValueError):
-        raise ParameterError(
-            f"{name} = {value!r} is not allowed: it must be 3 numbers ({what})"
-        ) from None
-    if arr.shape != (3,):
-        raise ParameterError(
-            f"{name} has shape {arr.shape}, which is not allowed: it must be 3 numbers ({what})"
-        )
-    out = tuple(real(f"{name}[{i}]", x) for i, x in enumerate(arr))
+    """Three finite numbers (the heavy top's vector check) of magnitude at most LENGTH_MAX
+    (in ``unit``)."""
+    out = _vector(name, value, 3)
     for i, x in enumerate(out):
         if abs(x) > LENGTH_MAX:
             raise ParameterError(
                 f"{name}[{i}] = {x!r} is not allowed: it must be at most {LENGTH_MAX:g} {unit} "
                 "in magnitude"
             )
-    return out  # type: ignore[return-value]
+    return tuple(out)  # type: ignore[return-value]
 
 
 def _times(t) -> tuple[np.ndarray, bool]:

@@ -361,46 +361,26 @@ pub fn simulate<'py>(
     match native(model)? {
         Native::Heavy(top) => {
             let s0 = heavy_state(py, &state)?;
-            let out = run_model(py, top, s0, st, &events, |py, f, t, s: &RigidState| {
-                f.call1(py, (t, s.q.0, s.omega))?.extract::<f64>(py)
-            })?;
-            let q: Vec<[f64; 4]> = out.rows.iter().map(|s| s.q.0).collect();
-            let w: Vec<[f64; 3]> = out.rows.iter().map(|s| s.omega).collect();
-            d.set_item("quaternion", flat(py, &q)?)?;
-            d.set_item("omega", flat(py, &w)?)?;
-            d.set_item("derived", top.column_names())?;
-            info_into(py, &d, &out.info)?;
-            d.set_item("t", out.t.into_pyarray(py))?;
-            d.set_item(
-                "run",
-                PyRun {
-                    rows: Rows::Heavy(top, out.rows),
-                },
+            let out = run_model(py, top, s0, st, &events, rigid_event)?;
+            put_rigid(
+                py,
+                &d,
+                out.rows.iter().copied(),
+                top.column_names(),
+                &out.info,
             )?;
+            d.set_item("t", out.t.into_pyarray(py))?;
+            let rows = Rows::Heavy(top, out.rows);
+            d.set_item("run", PyRun { rows })?;
         }
         Native::Driven(top) => {
             let s0 = heavy_state(py, &state)?;
-            let out = run_model(
-                py,
-                top.clone(),
-                s0,
-                st,
-                &events,
-                |py, f, t, s: &RigidState| f.call1(py, (t, s.q.0, s.omega))?.extract::<f64>(py),
-            )?;
-            let q: Vec<[f64; 4]> = out.rows.iter().map(|r| r.state().q.0).collect();
-            let w: Vec<[f64; 3]> = out.rows.iter().map(|r| r.state().omega).collect();
-            d.set_item("quaternion", flat(py, &q)?)?;
-            d.set_item("omega", flat(py, &w)?)?;
-            d.set_item("derived", top.column_names())?;
-            info_into(py, &d, &out.info)?;
+            let out = run_model(py, top.clone(), s0, st, &events, rigid_event)?;
+            let states = out.rows.iter().map(|r| r.state());
+            put_rigid(py, &d, states, top.column_names(), &out.info)?;
             d.set_item("t", out.t.into_pyarray(py))?;
-            d.set_item(
-                "run",
-                PyRun {
-                    rows: Rows::Driven(top, out.rows),
-                },
-            )?;
+            let rows = Rows::Driven(top, out.rows);
+            d.set_item("run", PyRun { rows })?;
         }
         Native::Play(top) => {
             let y0 = play_state(&state)?;
@@ -439,6 +419,27 @@ pub fn simulate<'py>(
         }
     }
     Ok(d)
+}
+
+/// A Python event function of a top on a pivot, called with (t, q, omega).
+fn rigid_event(py: Python<'_>, f: Py<PyAny>, t: f64, s: &RigidState) -> PyResult<f64> {
+    f.call1(py, (t, s.q.0, s.omega))?.extract::<f64>(py)
+}
+
+/// A rigid top's run into `d`: its quaternions and body rates, the names of its diagnostics
+/// columns, its events, stats and status.
+fn put_rigid(
+    py: Python<'_>,
+    d: &Bound<'_, PyDict>,
+    states: impl Iterator<Item = RigidState>,
+    derived: Vec<&'static str>,
+    info: &RunInfo,
+) -> PyResult<()> {
+    let (q, w): (Vec<[f64; 4]>, Vec<[f64; 3]>) = states.map(|s| (s.q.0, s.omega)).unzip();
+    d.set_item("quaternion", flat(py, &q)?)?;
+    d.set_item("omega", flat(py, &w)?)?;
+    d.set_item("derived", derived)?;
+    info_into(py, d, info)
 }
 
 /// The code a category summary has where a run failed.

@@ -23,8 +23,8 @@
 
 use std::sync::Arc;
 
-use super::equations::{pack, unpack};
-use super::simulate::{builtin_event, HeavySummary};
+use super::equations::{normalize_quaternion, pack, unpack};
+use super::simulate::{event_fns, fixed_info, HeavySummary};
 use super::splitting::{Splitting, QM as SplitQM};
 use super::{HeavyTop, RigidState};
 use crate::error::{finite, non_negative, KreiselError, Result};
@@ -219,12 +219,7 @@ impl PathSpline {
                 ..PivotKin::default()
             };
         }
-        let i = self
-            .breaks
-            .partition_point(|&b| b <= t)
-            .saturating_sub(1)
-            .min(m - 1);
-        self.interval_kin(i, t)
+        self.interval_kin(self.interval(t), t)
     }
 }
 
@@ -510,27 +505,25 @@ impl DrivenTop {
     /// inertial force give, as felt in the pivot's frame.
     #[inline(always)]
     fn effective_gravity(&self, q: Quat, k: &PivotKin) -> [f64; 3] {
-        let gamma = q.up_in_body();
+        self.in_body(q, q.up_in_body(), k).0
+    }
+
+    /// `g Gamma + A` and the pivot's velocity, in the body frame (Gamma = `q.up_in_body()`,
+    /// given: it is computed once per evaluation). A pivot moving along the vertical only
+    /// moves along Gamma there.
+    #[inline(always)]
+    fn in_body(&self, q: Quat, gamma: [f64; 3], k: &PivotKin) -> ([f64; 3], [f64; 3]) {
         let g = self.top.g();
         if self.vertical {
-            return gamma.map(|x| (g + k.a[2]) * x);
+            return (gamma.map(|x| (g + k.a[2]) * x), gamma.map(|x| k.v[2] * x));
         }
         let a = q.rotate_inv(k.a);
-        [
+        let ge = [
             g * gamma[0] + a[0],
             g * gamma[1] + a[1],
             g * gamma[2] + a[2],
-        ]
-    }
-
-    /// The pivot's velocity in the body frame.
-    #[inline(always)]
-    fn velocity_in_body(&self, q: Quat, k: &PivotKin) -> [f64; 3] {
-        if self.vertical {
-            q.up_in_body().map(|x| k.v[2] * x)
-        } else {
-            q.rotate_inv(k.v)
-        }
+        ];
+        (ge, q.rotate_inv(k.v))
     }
 
     /// The sticking margin `|geff x c| - mu_p r_p |geff|` (per unit mass): <= 0 where dry
@@ -544,9 +537,8 @@ impl DrivenTop {
     #[inline(always)]
     fn eval(&self, t: f64, q: Quat, w: [f64; 3], stuck: bool) -> Eval {
         let k = self.pivot.kin(t + self.t0);
-        let ge = self.effective_gravity(q, &k);
+        let (ge, v_b) = self.in_body(q, q.up_in_body(), &k);
         let (m, c) = (self.top.m(), self.top.com());
-        let v_b = self.velocity_in_body(q, &k);
         if stuck {
             let r = ge.map(|x| m * x);
             return Eval {
@@ -712,10 +704,7 @@ impl<const MOMENTUM: bool, const STUCK: bool> OdeSystem<DIM> for Driven<'_, MOME
     fn project(&self, y: &mut [f64; DIM]) {
         // a stuck top's orientation does not change, not even by a rounding
         if !MOMENTUM && !STUCK {
-            let n = (y[0] * y[0] + y[1] * y[1] + y[2] * y[2] + y[3] * y[3]).sqrt();
-            for v in y.iter_mut().take(4) {
-                *v /= n;
-            }
+            normalize_quaternion(y);
         }
     }
 }
@@ -739,8 +728,6 @@ const EVENTS: [EventKind; 3] = [
     EventKind::ThetaCrossing(0.0),
     EventKind::User,
 ];
-
-type RawEventFn<'a> = Box<dyn FnMut(f64, &[f64; DIM]) -> f64 + 'a>;
 
 /// The phase of a run with dry friction.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -882,20 +869,8 @@ impl Model for DrivenTop {
                 (fixed::run(&sch, y0, t_end, dt, te, rec, keep_going)?, 0)
             }
         };
-        let ((steps, done), per_step) = out;
-        Ok(RunInfo {
-            stats: Stats {
-                steps,
-                rejected: 0,
-                rhs_evals: steps * per_step,
-            },
-            events: Vec::new(),
-            status: if done {
-                Status::Completed
-            } else {
-                Status::Interrupted
-            },
-        })
+        let (run, per_step) = out;
+        fixed_info(run, per_step)
     }
 
     fn summary<'a>(&'a self, s0: &RigidState, _settings: &Settings) -> DrivenAcc<'a> {
@@ -965,26 +940,7 @@ impl DrivenTop {
                 &mut out,
             );
             stream.taken = taken;
-            let mut users = user.iter_mut();
-            let mut fns: Vec<RawEventFn<'_>> = Vec::with_capacity(settings.events.len() + 1);
-            for e in &settings.events {
-                let kind = e.kind;
-                fns.push(match kind {
-                    EventKind::User => {
-                        let f = users.next().ok_or_else(|| {
-                            KreiselError::invalid(
-                                "events",
-                                f64::NAN,
-                                "a user event has no function",
-                            )
-                        })?;
-                        Box::new(move |tt: f64, yy: &[f64; DIM]| f(tt, &state_of(yy)))
-                    }
-                    _ => {
-                        Box::new(move |_t: f64, yy: &[f64; DIM]| builtin_event(kind, &state_of(yy)))
-                    }
-                });
-            }
+            let mut fns = event_fns(settings, &mut *user, &state_of)?;
             let n_user = fns.len();
             if dry {
                 fns.push(match phase {
@@ -1073,7 +1029,7 @@ impl DrivenTop {
                         // -m v_O . (w x r_G). E + D - W stays what it was.
                         let k = self.pivot.kin(t + self.t0);
                         let w = s.omega;
-                        let v_b = self.velocity_in_body(s.q, &k);
+                        let v_b = self.in_body(s.q, s.q.up_in_body(), &k).1;
                         y[8] += 0.5 * dot(w, self.top.momentum(w));
                         y[7] -= self.top.m() * dot(v_b, cross(w, self.top.com()));
                         y[4..7].fill(0.0);
@@ -1149,8 +1105,8 @@ impl<'a> DrivenSplitting<'a> {
     }
 
     #[inline(always)]
-    fn kick(&self, y: &mut SplitY, h: f64) {
-        let tt = y.t + self.top.t0;
+    fn kick(&self, y: &mut SplitY, t: f64, h: f64) {
+        let tt = t + self.top.t0;
         // A composition's inner stages may step before the run's start (Yoshida's negative
         // weights): a path that starts there is continued smoothly, not held at rest.
         let (k, jerk) = match &self.top.pivot {
@@ -1171,16 +1127,11 @@ impl<'a> DrivenSplitting<'a> {
 impl FixedScheme for DrivenSplitting<'_> {
     type Y = SplitY;
     fn step(&self, y: &mut SplitY, h: f64) -> Result<()> {
-        let t_start = y.t;
-        for &w in self.split.weights() {
-            self.kick(y, 0.5 * w * h);
-            self.split.free(&mut y.qm, w * h);
-            y.t += w * h;
-            self.kick(y, 0.5 * w * h);
-        }
-        // The composition's time ends at t + h up to rounding: put it there exactly.
-        y.t = t_start + h;
-        if self.top.pivot.vertical() {
+        let t0 = y.t;
+        self.split
+            .compose(y, h, |y| &mut y.qm, |y, tau, dt| self.kick(y, t0 + tau, dt));
+        y.t = t0 + h;
+        if self.top.vertical {
             self.split.restore_mz(&mut y.qm);
         } else {
             y.qm.mz = dot(y.qm.m, y.qm.q.up_in_body());

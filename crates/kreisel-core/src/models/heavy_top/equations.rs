@@ -19,10 +19,7 @@ impl<const AXIAL: bool> OdeSystem<7> for QOmega<'_, AXIAL> {
         }
     }
     fn project(&self, y: &mut [f64; 7]) {
-        let n = (y[0] * y[0] + y[1] * y[1] + y[2] * y[2] + y[3] * y[3]).sqrt();
-        for v in y.iter_mut().take(4) {
-            *v /= n;
-        }
+        normalize_quaternion(y);
     }
 }
 
@@ -46,6 +43,15 @@ impl OdeSystem<7> for QM<'_> {
         for i in 0..3 {
             dy[4 + i] = dm[i] + tq[i];
         }
+    }
+}
+
+/// Scales the quaternion in the first four components of `y` to unit length.
+#[inline(always)]
+pub fn normalize_quaternion(y: &mut [f64]) {
+    let n = (y[0] * y[0] + y[1] * y[1] + y[2] * y[2] + y[3] * y[3]).sqrt();
+    for v in y.iter_mut().take(4) {
+        *v /= n;
     }
 }
 

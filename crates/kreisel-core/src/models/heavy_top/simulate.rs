@@ -24,7 +24,8 @@ const EVENTS: [EventKind; 3] = [
     EventKind::User,
 ];
 
-type RawEventFn<'a, const N: usize> = Box<dyn FnMut(f64, &[f64; N]) -> f64 + 'a>;
+/// An event function on a system's state.
+pub(super) type RawEventFn<'a, const N: usize> = Box<dyn FnMut(f64, &[f64; N]) -> f64 + 'a>;
 
 impl Model for HeavyTop {
     type State = RigidState;
@@ -173,7 +174,7 @@ impl Model for HeavyTop {
 }
 
 /// What a fixed-step run of `steps` steps, completed or not, reports.
-fn fixed_info((steps, done): (u64, bool), rhs_per_step: u64) -> Result<RunInfo> {
+pub(super) fn fixed_info((steps, done): (u64, bool), rhs_per_step: u64) -> Result<RunInfo> {
     Ok(RunInfo {
         stats: Stats {
             steps,
@@ -226,6 +227,30 @@ pub(super) fn builtin_event(kind: EventKind, s: &RigidState) -> f64 {
     }
 }
 
+/// The event functions of `settings` on a system's state (decoded to a rigid state): the
+/// built-in kinds and `user`'s functions, in order.
+pub(super) fn event_fns<'a, const N: usize>(
+    settings: &Settings,
+    user: &'a mut [UserFn<'_, RigidState>],
+    decode: &'a impl Fn(&[f64; N]) -> RigidState,
+) -> Result<Vec<RawEventFn<'a, N>>> {
+    let mut users = user.iter_mut();
+    let mut fns: Vec<RawEventFn<'a, N>> = Vec::with_capacity(settings.events.len() + 1);
+    for e in &settings.events {
+        let kind = e.kind;
+        fns.push(match kind {
+            EventKind::User => {
+                let f = users.next().ok_or_else(|| {
+                    KreiselError::invalid("events", f64::NAN, "a user event has no function")
+                })?;
+                Box::new(move |t: f64, y: &[f64; N]| f(t, &decode(y)))
+            }
+            _ => Box::new(move |_t: f64, y: &[f64; N]| builtin_event(kind, &decode(y))),
+        });
+    }
+    Ok(fns)
+}
+
 #[allow(clippy::too_many_arguments)]
 fn run_ode<const N: usize, S: OdeSystem<N>>(
     integrator: &Dop853,
@@ -244,20 +269,7 @@ fn run_ode<const N: usize, S: OdeSystem<N>>(
         Some(keep_going),
         |t, y| sink(t, &decode(y)),
     );
-    let mut users = user.iter_mut();
-    let mut fns: Vec<RawEventFn<'_, N>> = Vec::with_capacity(settings.events.len());
-    for e in &settings.events {
-        let kind = e.kind;
-        fns.push(match kind {
-            EventKind::User => {
-                let f = users.next().ok_or_else(|| {
-                    KreiselError::invalid("events", f64::NAN, "a user event has no function")
-                })?;
-                Box::new(move |t: f64, y: &[f64; N]| f(t, &decode(y)))
-            }
-            _ => Box::new(move |_t: f64, y: &[f64; N]| builtin_event(kind, &decode(y))),
-        });
-    }
+    let mut fns = event_fns(settings, user, decode)?;
     let t_end = settings.t_end;
     let (t1, st, hits) = if fns.is_empty() {
         // No events: the stream alone observes (no locator to consult after every step).

@@ -71,11 +71,6 @@ impl<'a> Splitting<'a> {
         Ok(Splitting { top, weights })
     }
 
-    /// The weights of the Strang steps composed.
-    pub(super) fn weights(&self) -> &'static [f64] {
-        self.weights
-    }
-
     /// The internal state of a rigid state.
     pub fn encode(&self, s: &RigidState) -> QM {
         let m = self.top.momentum(s.omega);
@@ -142,11 +137,27 @@ impl<'a> Splitting<'a> {
         }
     }
 
+    /// The composition of Strang steps over h on a state `Y` that holds a [`QM`] (`qm`
+    /// reaches it): for each weight w, `kick(y, tau, w h / 2)`, the free rotation over w h,
+    /// and `kick(y, tau + w h, w h / 2)`, with tau the stage's time from the step's start
+    /// (Yoshida's negative weights take it back before the start). A top on a fixed pivot
+    /// kicks with gravity alone; one on a moving pivot kicks at the stage's time.
     #[inline(always)]
-    fn strang(&self, y: &mut QM, h: f64) {
-        self.kick(y, 0.5 * h);
-        self.free(y, h);
-        self.kick(y, 0.5 * h);
+    pub(super) fn compose<Y>(
+        &self,
+        y: &mut Y,
+        h: f64,
+        qm: for<'b> fn(&'b mut Y) -> &'b mut QM,
+        kick: impl Fn(&mut Y, f64, f64),
+    ) {
+        let mut tau = 0.0;
+        for &w in self.weights {
+            let hw = w * h;
+            kick(y, tau, 0.5 * hw);
+            self.free(qm(y), hw);
+            tau += hw;
+            kick(y, tau, 0.5 * hw);
+        }
     }
 }
 
@@ -171,9 +182,7 @@ impl Splitting<'_> {
 impl FixedScheme for Splitting<'_> {
     type Y = QM;
     fn step(&self, y: &mut QM, h: f64) -> Result<()> {
-        for &w in self.weights {
-            self.strang(y, w * h);
-        }
+        self.compose(y, h, |y| y, |y, _, dt| self.kick(y, dt));
         self.restore_mz(y);
         Ok(())
     }

@@ -8,6 +8,7 @@ mod heavy;
 mod lagrange;
 mod play;
 mod quantum;
+mod sensitivity;
 mod simulate;
 mod special;
 mod stability;
@@ -26,6 +27,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<quantum::PySymmetricTop>()?;
     m.add_function(wrap_pyfunction!(simulate::simulate, m)?)?;
     m.add_function(wrap_pyfunction!(simulate::many, m)?)?;
+    m.add_function(wrap_pyfunction!(sensitivity::simulate_sensitivities, m)?)?;
     m.add_function(wrap_pyfunction!(simulate::names, m)?)?;
     m.add_function(wrap_pyfunction!(simulate::check_settings, m)?)?;
     m.add_function(wrap_pyfunction!(simulate::check_event, m)?)?;

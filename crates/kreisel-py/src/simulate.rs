@@ -71,7 +71,7 @@ fn play_state(x: &[f64]) -> PyResult<[f64; DIM]> {
 }
 
 /// An event as Python hands it: (name, kind, callable or None, value, direction, terminal).
-type EventTuple = (String, String, Option<Py<PyAny>>, f64, i8, bool);
+pub(crate) type EventTuple = (String, String, Option<Py<PyAny>>, f64, i8, bool);
 
 fn event_def((name, kind, _, value, direction, terminal): &EventTuple) -> PyResult<EventDef> {
     let kind = match kind.as_str() {
@@ -118,7 +118,7 @@ impl Signals {
 }
 
 #[allow(clippy::too_many_arguments)]
-fn settings(
+pub(crate) fn settings(
     t_end: f64,
     method: String,
     rtol: f64,
@@ -209,16 +209,16 @@ where
 /// for (`columns`).
 #[pyclass(name = "Run", module = "kreisel._core", frozen)]
 pub struct PyRun {
-    rows: Rows,
+    pub(crate) rows: Rows,
 }
 
-enum Rows {
+pub(crate) enum Rows {
     Heavy(HeavyTop, Vec<RigidState>),
     Driven(DrivenTop, Vec<DrivenRow>),
     Play(PlayTop, Vec<PlayRow>),
 }
 
-fn flat<const K: usize>(py: Python<'_>, v: &[[f64; K]]) -> PyResult<Py<PyAny>> {
+pub(crate) fn flat<const K: usize>(py: Python<'_>, v: &[[f64; K]]) -> PyResult<Py<PyAny>> {
     let n = v.len();
     let data: Vec<f64> = v.iter().flat_map(|x| *x).collect();
     Ok(data.into_pyarray(py).reshape([n, K])?.into_any().unbind())
@@ -316,7 +316,7 @@ impl PyRun {
     }
 }
 
-fn info_into(py: Python<'_>, d: &Bound<'_, PyDict>, info: &RunInfo) -> PyResult<()> {
+pub(crate) fn info_into(py: Python<'_>, d: &Bound<'_, PyDict>, info: &RunInfo) -> PyResult<()> {
     let events = PyList::empty(py);
     for e in &info.events {
         let index: i64 = e.index.map_or(-1, |i| i as i64);
@@ -428,7 +428,7 @@ fn rigid_event(py: Python<'_>, f: Py<PyAny>, t: f64, s: &RigidState) -> PyResult
 
 /// A rigid top's run into `d`: its quaternions and body rates, the names of its diagnostics
 /// columns, its events, stats and status.
-fn put_rigid(
+pub(crate) fn put_rigid(
     py: Python<'_>,
     d: &Bound<'_, PyDict>,
     states: impl Iterator<Item = RigidState>,

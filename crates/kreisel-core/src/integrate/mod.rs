@@ -90,6 +90,14 @@ pub trait OdeSystem<const N: usize> {
     fn magnitude_floor(&self) -> [f64; N] {
         [0.0; N]
     }
+
+    /// How many leading components the adaptive integrators' error estimate (and their
+    /// starting step) measures: the others are carried along with the steps those choose
+    /// (forward sensitivities riding on a trajectory). Default: all `N`.
+    #[inline(always)]
+    fn controlled(&self) -> usize {
+        N
+    }
 }
 
 /// An [`OdeSystem`] given by a closure `|t, y, dy| ...` (no projection).

@@ -14,7 +14,8 @@
 //!   `dop853.f` (and SciPy): with `sk_i = atol + rtol * max(|y_i|, |y_new_i|)`,
 //!   `err5 = Σ (e5_i / sk_i)^2`, `err3 = Σ (e3_i / sk_i)^2`,
 //!   `err = |h| * err5 / sqrt(N * (err5 + 0.01 * err3))`; a step is accepted when
-//!   `err <= 1`.
+//!   `err <= 1`. The sums run over the first [`OdeSystem::controlled`] components (all
+//!   `N` unless a system says otherwise), and `N` is their number.
 //! * Step-size control of `dop853.f` with its default parameters: new step
 //!   `h * clamp(0.9 * err^(-1/8), 1/3, 6)`, no increase right after a rejection,
 //!   never larger than `h_max`. (SciPy uses the factor limits 0.2..10 instead.)
@@ -564,7 +565,8 @@ impl Dop853 {
 
         let (mut err5, mut err3) = (0.0, 0.0);
         let floor = sys.magnitude_floor();
-        for i in 0..N {
+        let nc = sys.controlled().min(N);
+        for i in 0..nc {
             let sk = self.atol + self.rtol * y[i].abs().max(y_new[i].abs()).max(floor[i]);
             err5 += scaled(e5[i], sk).powi(2);
             err3 += scaled(e3[i], sk).powi(2);
@@ -574,7 +576,7 @@ impl Dop853 {
             deno = 1.0;
         }
         // err is +inf (reject, shrink) if a zero scale meets a nonzero error estimate.
-        let mut err = h.abs() * err5 / (N as f64 * deno).sqrt();
+        let mut err = h.abs() * err5 / (nc as f64 * deno).sqrt();
         if err.is_nan() {
             err = f64::INFINITY;
         }
@@ -598,7 +600,8 @@ impl Dop853 {
         let mut sk = [0.0; N];
         let (mut dnf, mut dny) = (0.0, 0.0);
         let floor = sys.magnitude_floor();
-        for i in 0..N {
+        let nc = sys.controlled().min(N);
+        for i in 0..nc {
             sk[i] = self.atol + self.rtol * y[i].abs().max(floor[i]);
             dnf += scaled(f0[i], sk[i]).powi(2);
             dny += scaled(y[i], sk[i]).powi(2);
@@ -617,7 +620,7 @@ impl Dop853 {
         sys.rhs(t + h, &y1, &mut f1);
         stats.rhs_evals += 1;
         let mut der2 = 0.0;
-        for i in 0..N {
+        for i in 0..nc {
             der2 += scaled(f1[i] - f0[i], sk[i]).powi(2);
         }
         let der2 = der2.sqrt() / h;

@@ -14,11 +14,13 @@
 //! - [`equations`]: the first-order systems for the general-purpose integrators;
 //! - [`splitting`]: the explicit Lie-Poisson splittings (exact sub-flows);
 //! - [`verlet`]: Stoermer-Verlet on the Euler-angle Hamiltonian;
+//! - [`sensitivity`]: forward sensitivities (variational equations on the rotation group);
 //! - [`simulate`]: the driver behind `simulate::simulate` for heavy tops, its columns and
 //!   its summary.
 
 pub mod driven;
 pub mod equations;
+pub mod sensitivity;
 pub mod simulate;
 pub mod splitting;
 pub mod verlet;

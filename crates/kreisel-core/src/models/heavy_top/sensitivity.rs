@@ -1,0 +1,723 @@
+//! Forward sensitivities of the heavy top on a fixed pivot: the derivatives of a run with
+//! respect to the top's parameters and its initial state, integrated with the run by DOP853
+//! (theory: sensitivities).
+//!
+//! For `y' = f(y, p)`, `y(0) = y0(p)`, the sensitivity `S = dy/dp` obeys the variational
+//! equation `S' = (df/dy) S + df/dp`, `S(0) = dy0/dp` (Hairer, Norsett & Wanner, *Solving
+//! Ordinary Differential Equations I*, Sec. I.14). The orientation lives on the rotation
+//! group, so it is perturbed through the exponential map, in the body frame:
+//! `R(p + dp) = R(p) exp([xi dp]x)`, `q -> q exp(xi dp / 2)`: its sensitivity `xi` has three
+//! components, not the four of a quaternion. With `R' = R [omega]x` and `Gamma = R^T e_z`:
+//!
+//! `xi' = xi x omega + d_omega`,
+//! `I d_omega' = (I d_omega) x omega + (I omega) x d_omega + (Gamma x xi) x (m g c) + b_p`,
+//!
+//! where `b_p` is the explicit derivative of Euler's equations `I omega' = (I omega) x omega +
+//! Gamma x (m g c)` in the parameter: for a principal moment `I_k`,
+//! `b = (omega_k e_k) x omega - omega'_k e_k`; for m, g and `c_k`, `Gamma x` the derivative
+//! of `m g c`. The Jacobians are written out here, not differenced.
+//!
+//! The trajectory is the one a plain run takes, bit for bit: the sensitivities ride on its
+//! steps and are left out of the step-size control (see [`Sensitivities::control`] and the
+//! theory page for the measurements behind that choice).
+
+use super::equations::normalize_quaternion;
+use super::{HeavyTop, RigidState};
+use crate::error::{KreiselError, Result};
+use crate::integrate::{Dop853, OdeSystem, Stream};
+use crate::rotation::{cross, Quat};
+use crate::simulate::{
+    self, integrate_error, RunInfo, Settings, Stats, Status, MAX_ROWS, MAX_STEPS,
+};
+
+/// The parameters of a [`HeavyTop`] that have sensitivities, by their public names.
+pub const HEAVY_PARAMETERS: [&str; 8] = ["I1", "I2", "I3", "m", "g", "com[0]", "com[1]", "com[2]"];
+/// The parameters of a Lagrange top (`I1 == I2`, `c = (0, 0, l)`): "I1" moves both
+/// transverse moments.
+pub const LAGRANGE_PARAMETERS: [&str; 5] = ["I1", "I3", "m", "l", "g"];
+/// The fields of a state in Euler angles.
+pub const EULER_FIELDS: [&str; 6] = ["theta", "phi", "psi", "theta_dot", "phi_dot", "psi_dot"];
+/// The fields of a state as (orientation, body rates): the orientation's body-frame
+/// rotation vector at t = 0 and the body rates.
+pub const RIGID_FIELDS: [&str; 6] = [
+    "orientation[0]",
+    "orientation[1]",
+    "orientation[2]",
+    "omega[0]",
+    "omega[1]",
+    "omega[2]",
+];
+
+/// What a sensitivity is taken with respect to.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Param {
+    /// A principal moment `I_k` about the pivot (k = 0, 1, 2).
+    Inertia(usize),
+    /// Both transverse moments at once (a Lagrange top's I1).
+    Transverse,
+    /// The mass.
+    Mass,
+    /// The gravitational acceleration.
+    Gravity,
+    /// A component of the centre of mass (body frame).
+    Com(usize),
+    /// The initial state: the body-frame rotation vector and body rates it moves,
+    /// `(xi, d_omega)` at t = 0.
+    Initial([f64; 6]),
+}
+
+/// The sensitivities a run carries: what each is taken with respect to, by name.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Sensitivities {
+    /// The public names, in the caller's order.
+    pub names: Vec<String>,
+    /// What each name is.
+    pub params: Vec<Param>,
+    /// Whether DOP853's step-size control measures the sensitivities too. Off by default:
+    /// the run then takes the steps of a plain run, and the sensitivities are as accurate
+    /// as the finite differences of two plain runs at the same tolerances (theory:
+    /// sensitivities).
+    pub control: bool,
+}
+
+/// The largest number of sensitivities a run carries (every parameter of a heavy top and
+/// every field of its state).
+pub const MAX_SENSITIVITIES: usize = HEAVY_PARAMETERS.len() + EULER_FIELDS.len();
+
+impl Sensitivities {
+    /// The sensitivities of `names`: parameters of a heavy top (or of a Lagrange top when
+    /// `lagrange`), and fields of the initial state: of an Euler-angle state
+    /// `(theta, phi, psi, theta_dot, phi_dot, psi_dot)` when `euler` is given, else of a
+    /// state as (quaternion, omega). An unknown or repeated name is an error naming it and
+    /// the allowed ones.
+    pub fn new(names: &[String], lagrange: bool, euler: Option<[f64; 6]>) -> Result<Self> {
+        let params: &[&str] = if lagrange {
+            &LAGRANGE_PARAMETERS
+        } else {
+            &HEAVY_PARAMETERS
+        };
+        let fields: &[&str] = if euler.is_some() {
+            &EULER_FIELDS
+        } else {
+            &RIGID_FIELDS
+        };
+        let mut out = Vec::with_capacity(names.len());
+        for (i, name) in names.iter().enumerate() {
+            if names[..i].contains(name) {
+                return Err(KreiselError::InvalidParameter {
+                    name: "sensitivities".into(),
+                    value: format!("{name:?}"),
+                    allowed: "each name at most once".into(),
+                });
+            }
+            let p = if let Some(j) = params.iter().position(|p| p == name) {
+                if lagrange {
+                    [
+                        Param::Transverse,
+                        Param::Inertia(2),
+                        Param::Mass,
+                        Param::Com(2),
+                        Param::Gravity,
+                    ][j]
+                } else {
+                    [
+                        Param::Inertia(0),
+                        Param::Inertia(1),
+                        Param::Inertia(2),
+                        Param::Mass,
+                        Param::Gravity,
+                        Param::Com(0),
+                        Param::Com(1),
+                        Param::Com(2),
+                    ][j]
+                }
+            } else if let Some(j) = fields.iter().position(|f| f == name) {
+                Param::Initial(match euler {
+                    Some(e) => euler_initial(e, j),
+                    None => {
+                        let mut v = [0.0; 6];
+                        v[j] = 1.0;
+                        v
+                    }
+                })
+            } else {
+                return Err(KreiselError::InvalidParameter {
+                    name: "sensitivities".into(),
+                    value: format!("{name:?}"),
+                    allowed: format!(
+                        "the {} has the parameters {} and its {} state the fields {}",
+                        if lagrange {
+                            "Lagrange top"
+                        } else {
+                            "heavy top"
+                        },
+                        params.join(", "),
+                        if euler.is_some() {
+                            "Euler-angle"
+                        } else {
+                            "(quaternion, omega)"
+                        },
+                        fields.join(", ")
+                    ),
+                });
+            };
+            out.push(p);
+        }
+        if out.is_empty() {
+            return Err(KreiselError::InvalidParameter {
+                name: "sensitivities".into(),
+                value: "[]".into(),
+                allowed: "name at least one parameter or field of the state (or give None)".into(),
+            });
+        }
+        Ok(Sensitivities {
+            names: names.to_vec(),
+            params: out,
+            control: false,
+        })
+    }
+}
+
+/// The error for a model that has no sensitivities yet: `floor` for a top on a floor, else
+/// a top on a moving or damped pivot.
+pub fn unavailable(floor: bool) -> KreiselError {
+    KreiselError::InvalidParameter {
+        name: "sensitivities".into(),
+        value: "a list of names".into(),
+        allowed: if floor {
+            "sensitivities of tops on a floor are not available yet".into()
+        } else {
+            "sensitivities are available for a top on a fixed pivot without damping; a \
+             moving or damped pivot has none yet"
+                .into()
+        },
+    }
+}
+
+/// `(xi, d_omega)` at t = 0 of a derivative in field `j` of an Euler-angle state
+/// `(theta, phi, psi, theta_dot, phi_dot, psi_dot)`, z-x-z (`R = Rz(phi) Rx(theta)
+/// Rz(psi)`): `Rz(phi) Rx(theta + d) Rz(psi) = R exp(d [Rz(-psi) e_x]x)` and
+/// `Rz(phi + d) R = R exp(d [R^T e_z]x)`; the body rates are Goldstein's
+/// `omega = (phi' st sp + theta' cp, phi' st cp - theta' sp, phi' ct + psi')`.
+pub fn euler_initial(e: [f64; 6], j: usize) -> [f64; 6] {
+    let [theta, _phi, psi, theta_dot, phi_dot, _psi_dot] = e;
+    let (st, ct) = theta.sin_cos();
+    let (sp, cp) = psi.sin_cos();
+    match j {
+        0 => [
+            cp,
+            -sp,
+            0.0,
+            phi_dot * ct * sp,
+            phi_dot * ct * cp,
+            -phi_dot * st,
+        ],
+        1 => [st * sp, st * cp, ct, 0.0, 0.0, 0.0],
+        2 => [
+            0.0,
+            0.0,
+            1.0,
+            phi_dot * st * cp - theta_dot * sp,
+            -phi_dot * st * sp - theta_dot * cp,
+            0.0,
+        ],
+        3 => [0.0, 0.0, 0.0, cp, -sp, 0.0],
+        4 => [0.0, 0.0, 0.0, st * sp, st * cp, ct],
+        _ => [0.0, 0.0, 0.0, 0.0, 0.0, 1.0],
+    }
+}
+
+/// The derivatives `(theta, phi, psi)` of the z-x-z Euler angles of `q` along the body-frame
+/// rotation `xi` (the inverse of the Goldstein relation between Euler rates and body
+/// rates); phi's and psi's are infinite where theta = 0 or pi, where they are undefined.
+pub fn euler_derivative(q: Quat, xi: [f64; 3]) -> [f64; 3] {
+    let (_, theta, psi) = crate::rotation::euler_from_quaternion(q);
+    let (st, ct) = theta.sin_cos();
+    let (sp, cp) = psi.sin_cos();
+    let d_theta = xi[0] * cp - xi[1] * sp;
+    let d_phi = (xi[0] * sp + xi[1] * cp) / st;
+    [d_theta, d_phi, xi[2] - ct * d_phi]
+}
+
+impl HeavyTop {
+    /// The tangent of the right-hand side along `(xi, d_omega)` at `(q, omega)`, with
+    /// `omega_dot` the right-hand side's rates there: `(xi', d_omega')` without the
+    /// parameter's own term (`(df/dy) S` of the variational equation).
+    #[inline(always)]
+    pub fn tangent(&self, q: Quat, omega: [f64; 3], v: &[f64; 6]) -> [f64; 6] {
+        let xi = [v[0], v[1], v[2]];
+        let dw = [v[3], v[4], v[5]];
+        let dxi = cross(xi, omega);
+        let mom = self.momentum(omega);
+        let dmom = self.momentum(dw);
+        let a = cross(dmom, omega);
+        let b = cross(mom, dw);
+        let dgamma = cross(q.up_in_body(), xi);
+        let c = cross(dgamma, self.mgc());
+        let inv = self.inv_inertia;
+        [
+            dxi[0] + dw[0],
+            dxi[1] + dw[1],
+            dxi[2] + dw[2],
+            (a[0] + b[0] + c[0]) * inv[0],
+            (a[1] + b[1] + c[1]) * inv[1],
+            (a[2] + b[2] + c[2]) * inv[2],
+        ]
+    }
+
+    /// The explicit derivative of the body rates' right-hand side in a parameter (`df/dp`
+    /// of the variational equation; zero for the initial state and for the orientation).
+    #[inline(always)]
+    pub fn rate_derivative(
+        &self,
+        p: &Param,
+        q: Quat,
+        omega: [f64; 3],
+        omega_dot: [f64; 3],
+    ) -> [f64; 3] {
+        let inv = self.inv_inertia;
+        // I_k: (dI omega) x omega - dI omega', dI = e_k e_k^T.
+        let moment = |k: usize| {
+            let mut e = [0.0; 3];
+            e[k] = omega[k];
+            let mut r = cross(e, omega);
+            r[k] -= omega_dot[k];
+            r
+        };
+        let torque = |dmgc: [f64; 3]| cross(q.up_in_body(), dmgc);
+        let r = match *p {
+            Param::Inertia(k) => moment(k),
+            Param::Transverse => {
+                let (a, b) = (moment(0), moment(1));
+                [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
+            }
+            Param::Mass => torque(self.com.map(|c| self.g * c)),
+            Param::Gravity => torque(self.com.map(|c| self.m * c)),
+            Param::Com(k) => {
+                let mut d = [0.0; 3];
+                d[k] = self.m * self.g;
+                torque(d)
+            }
+            Param::Initial(_) => return [0.0; 3],
+        };
+        [r[0] * inv[0], r[1] * inv[1], r[2] * inv[2]]
+    }
+}
+
+/// The heavy top in `y = (q, omega)` with the sensitivities `(xi, d_omega)` of each
+/// parameter after it: `N = 7 + 6 K`, the columns past `params.len()` unused (zero).
+struct WithSensitivities<'a, const AXIAL: bool> {
+    top: &'a HeavyTop,
+    params: &'a [Param],
+    control: bool,
+}
+
+impl<const AXIAL: bool, const N: usize> OdeSystem<N> for WithSensitivities<'_, AXIAL> {
+    #[inline(always)]
+    fn rhs(&self, _t: f64, y: &[f64; N], dy: &mut [f64; N]) {
+        let top = self.top;
+        let mut y7 = [0.0; 7];
+        y7.copy_from_slice(&y[..7]);
+        let mut d7 = [0.0; 7];
+        // The trajectory's own right-hand side, so that it runs as a plain run does.
+        if AXIAL {
+            top.rhs_axial(&y7, &mut d7);
+        } else {
+            top.rhs(&y7, &mut d7);
+        }
+        dy[..7].copy_from_slice(&d7);
+        let q = Quat([y[0], y[1], y[2], y[3]]);
+        let omega = [y[4], y[5], y[6]];
+        let omega_dot = [d7[4], d7[5], d7[6]];
+        for (j, p) in self.params.iter().enumerate() {
+            let b = 7 + 6 * j;
+            let mut v = [0.0; 6];
+            v.copy_from_slice(&y[b..b + 6]);
+            let mut d = top.tangent(q, omega, &v);
+            let r = top.rate_derivative(p, q, omega, omega_dot);
+            for i in 0..3 {
+                d[3 + i] += r[i];
+            }
+            dy[b..b + 6].copy_from_slice(&d);
+        }
+        for x in dy[7 + 6 * self.params.len()..].iter_mut() {
+            *x = 0.0;
+        }
+    }
+
+    fn project(&self, y: &mut [f64; N]) {
+        normalize_quaternion(y);
+    }
+
+    #[inline(always)]
+    fn controlled(&self) -> usize {
+        if self.control {
+            7 + 6 * self.params.len()
+        } else {
+            7
+        }
+    }
+}
+
+/// A run with sensitivities: times, states, and per row and parameter `(xi, d_omega)`.
+#[derive(Debug, Clone)]
+pub struct SensitivitySolution {
+    /// Times (s).
+    pub t: Vec<f64>,
+    /// States at those times.
+    pub rows: Vec<RigidState>,
+    /// `(xi, d_omega)` of every parameter at every time: row-major, `sens[i * k + j]` for
+    /// row i and parameter j of k.
+    pub sens: Vec<[f64; 6]>,
+    /// Counters and status (no events).
+    pub info: RunInfo,
+}
+
+/// Simulates `top` from `s0` with the sensitivities `sens` (method "dop853", no events):
+/// the rows are those of [`simulate::simulate`] with the same settings.
+pub fn simulate_with_sensitivities(
+    top: &HeavyTop,
+    s0: &RigidState,
+    settings: &Settings,
+    sens: &Sensitivities,
+    keep_going: &mut dyn FnMut(f64) -> bool,
+) -> Result<SensitivitySolution> {
+    if settings.method != "dop853" {
+        return Err(KreiselError::InvalidParameter {
+            name: "method".into(),
+            value: format!("{:?}", settings.method),
+            allowed: "sensitivities are integrated with \"dop853\" only".into(),
+        });
+    }
+    if !settings.events.is_empty() {
+        return Err(KreiselError::InvalidParameter {
+            name: "events".into(),
+            value: format!("{} event(s)", settings.events.len()),
+            allowed: "a run with sensitivities takes no events (their times would need \
+                      sensitivities of their own)"
+                .into(),
+        });
+    }
+    simulate::check(top, settings, 0)?;
+    if settings.reduced {
+        return Err(KreiselError::InvalidParameter {
+            name: "reduced".into(),
+            value: "True".into(),
+            allowed: "sensitivities are integrated with the whole top, not the reduced route"
+                .into(),
+        });
+    }
+    let k = sens.params.len();
+    if k == 0 || k > MAX_SENSITIVITIES {
+        return Err(KreiselError::invalid(
+            "sensitivities",
+            k as f64,
+            format!("give 1 to {MAX_SENSITIVITIES} names"),
+        ));
+    }
+    // One monomorphisation per width; unused columns stay zero and are not measured.
+    match k {
+        1 => run::<13>(top, s0, settings, sens, keep_going),
+        2 => run::<19>(top, s0, settings, sens, keep_going),
+        3 | 4 => run::<31>(top, s0, settings, sens, keep_going),
+        5..=8 => run::<55>(top, s0, settings, sens, keep_going),
+        _ => run::<{ 7 + 6 * MAX_SENSITIVITIES }>(top, s0, settings, sens, keep_going),
+    }
+}
+
+fn run<const N: usize>(
+    top: &HeavyTop,
+    s0: &RigidState,
+    settings: &Settings,
+    sens: &Sensitivities,
+    keep_going: &mut dyn FnMut(f64) -> bool,
+) -> Result<SensitivitySolution> {
+    let k = sens.params.len();
+    debug_assert!(7 + 6 * k <= N);
+    let mut y0 = [0.0; N];
+    y0[..4].copy_from_slice(&s0.q.0);
+    y0[4..7].copy_from_slice(&s0.omega);
+    for (j, p) in sens.params.iter().enumerate() {
+        if let Param::Initial(v) = p {
+            y0[7 + 6 * j..13 + 6 * j].copy_from_slice(v);
+        }
+    }
+    let integrator = Dop853 {
+        rtol: settings.rtol,
+        atol: settings.atol,
+        h_init: None,
+        h_max: f64::INFINITY,
+        max_steps: MAX_STEPS,
+    };
+    let (mut t, mut rows, mut out) = (Vec::new(), Vec::new(), Vec::new());
+    let full = std::cell::Cell::new(false);
+    let t_end = settings.t_end;
+    let mut go = |ti: f64| !full.get() && keep_going(ti);
+    let mut stream = Stream::new(
+        settings.t_eval.as_deref(),
+        false,
+        Some(&mut go),
+        |ti, y: &[f64; N]| {
+            if t.len() >= MAX_ROWS {
+                full.set(true);
+                return;
+            }
+            t.push(ti);
+            rows.push(RigidState {
+                q: Quat([y[0], y[1], y[2], y[3]]).normalized(),
+                omega: [y[4], y[5], y[6]],
+            });
+            for j in 0..k {
+                let mut v = [0.0; 6];
+                v.copy_from_slice(&y[7 + 6 * j..13 + 6 * j]);
+                out.push(v);
+            }
+        },
+    );
+    let result = if top.axial() {
+        let sys = WithSensitivities::<true> {
+            top,
+            params: &sens.params,
+            control: sens.control,
+        };
+        integrator.integrate(&sys, 0.0, y0, t_end, &mut stream)
+    } else {
+        let sys = WithSensitivities::<false> {
+            top,
+            params: &sens.params,
+            control: sens.control,
+        };
+        integrator.integrate(&sys, 0.0, y0, t_end, &mut stream)
+    };
+    drop(stream);
+    let (t1, _, st) = result.map_err(|e| integrate_error(e, t_end))?;
+    if full.get() {
+        return Err(KreiselError::invalid(
+            "t_end",
+            t_end,
+            format!(
+                "the run keeps a row per step and reached the {MAX_ROWS} rows: give t_eval \
+                 or a shorter t_end"
+            ),
+        ));
+    }
+    let mut stats = Stats::default();
+    stats += st;
+    Ok(SensitivitySolution {
+        t,
+        rows,
+        sens: out,
+        info: RunInfo {
+            stats,
+            events: Vec::new(),
+            status: if t1 < t_end {
+                Status::Interrupted
+            } else {
+                Status::Completed
+            },
+        },
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::rotation::quaternion_from_euler;
+
+    fn general() -> HeavyTop {
+        HeavyTop::new(1.1, 1.6, 0.9, 0.7, [0.12, -0.08, 0.35], 9.81).unwrap()
+    }
+
+    fn state() -> RigidState {
+        RigidState::new(quaternion_from_euler(0.3, 0.8, -0.4).0, [1.3, -0.7, 11.0]).unwrap()
+    }
+
+    /// The rates' right-hand side at `(q, omega)` of `top`.
+    fn rates(top: &HeavyTop, q: Quat, omega: [f64; 3]) -> [f64; 7] {
+        let y = [q.0[0], q.0[1], q.0[2], q.0[3], omega[0], omega[1], omega[2]];
+        let mut d = [0.0; 7];
+        top.rhs(&y, &mut d);
+        d
+    }
+
+    fn rel(a: f64, b: f64) -> f64 {
+        (a - b).abs() / b.abs().max(1.0)
+    }
+
+    #[test]
+    fn sensitivity_tangent_is_the_derivative_of_the_right_hand_side() {
+        // df/dy along (xi, d_omega), against central differences of the right-hand side at
+        // (q exp(h xi / 2), omega + h d_omega): the rates' part directly; the orientation's
+        // from d/dh of q' = d/dt(q exp(h xi/2)) = q' (0, xi)/2 + q (0, xi')/2 at h = 0.
+        let top = general();
+        let s = state();
+        let v = [0.3, -0.5, 0.2, 0.7, 0.4, -1.1];
+        let h = 1e-6;
+        let at = |h: f64| {
+            let q =
+                s.q.hamilton(Quat::from_rotation_vector([h * v[0], h * v[1], h * v[2]]));
+            let w = [
+                s.omega[0] + h * v[3],
+                s.omega[1] + h * v[4],
+                s.omega[2] + h * v[5],
+            ];
+            rates(&top, q, w)
+        };
+        let (p, m) = (at(h), at(-h));
+        let fd: Vec<f64> = (0..7).map(|i| (p[i] - m[i]) / (2.0 * h)).collect();
+        let d = top.tangent(s.q, s.omega, &v);
+        for i in 0..3 {
+            assert!(
+                rel(d[3 + i], fd[4 + i]) < 1e-8,
+                "{i}: {} {}",
+                d[3 + i],
+                fd[4 + i]
+            );
+        }
+        let f0 = rates(&top, s.q, s.omega);
+        let qdot = Quat([f0[0], f0[1], f0[2], f0[3]]);
+        let rot = qdot.hamilton(Quat([0.0, v[0], v[1], v[2]]));
+        // q (0, xi') / 2 = fd - q' (0, xi) / 2, so (0, xi') = 2 q* (fd - q'(0, xi)/2).
+        let rest = Quat([
+            fd[0] - 0.5 * rot.0[0],
+            fd[1] - 0.5 * rot.0[1],
+            fd[2] - 0.5 * rot.0[2],
+            fd[3] - 0.5 * rot.0[3],
+        ]);
+        let conj = Quat([s.q.0[0], -s.q.0[1], -s.q.0[2], -s.q.0[3]]);
+        let dxi = conj.hamilton(rest);
+        assert!(dxi.0[0].abs() < 1e-8, "{:?}", dxi);
+        for i in 0..3 {
+            assert!(
+                rel(d[i], 2.0 * dxi.0[1 + i]) < 1e-8,
+                "{i}: {} {}",
+                d[i],
+                dxi.0[1 + i]
+            );
+        }
+    }
+
+    #[test]
+    fn sensitivity_parameter_terms_are_the_derivatives_of_the_right_hand_side() {
+        // df/dp against central differences of the right-hand side of perturbed tops.
+        let s = state();
+        let (i, m, c, g) = ([1.1, 1.6, 0.9], 0.7, [0.12, -0.08, 0.35], 9.81);
+        let make = |i: [f64; 3], m: f64, c: [f64; 3], g: f64| {
+            HeavyTop::new(i[0], i[1], i[2], m, c, g).unwrap()
+        };
+        let top = make(i, m, c, g);
+        let f0 = rates(&top, s.q, s.omega);
+        let wdot = [f0[4], f0[5], f0[6]];
+        let h = 1e-6;
+        let cases: Vec<(Param, Box<dyn Fn(f64) -> HeavyTop>)> = vec![
+            (
+                Param::Inertia(0),
+                Box::new(|d| make([i[0] + d, i[1], i[2]], m, c, g)),
+            ),
+            (
+                Param::Inertia(1),
+                Box::new(|d| make([i[0], i[1] + d, i[2]], m, c, g)),
+            ),
+            (
+                Param::Inertia(2),
+                Box::new(|d| make([i[0], i[1], i[2] + d], m, c, g)),
+            ),
+            (
+                Param::Transverse,
+                Box::new(|d| make([i[0] + d, i[1] + d, i[2]], m, c, g)),
+            ),
+            (Param::Mass, Box::new(|d| make(i, m + d, c, g))),
+            (Param::Gravity, Box::new(|d| make(i, m, c, g + d))),
+            (
+                Param::Com(0),
+                Box::new(|d| make(i, m, [c[0] + d, c[1], c[2]], g)),
+            ),
+            (
+                Param::Com(1),
+                Box::new(|d| make(i, m, [c[0], c[1] + d, c[2]], g)),
+            ),
+            (
+                Param::Com(2),
+                Box::new(|d| make(i, m, [c[0], c[1], c[2] + d], g)),
+            ),
+        ];
+        for (p, perturbed) in cases {
+            let (a, b) = (
+                rates(&perturbed(h), s.q, s.omega),
+                rates(&perturbed(-h), s.q, s.omega),
+            );
+            let r = top.rate_derivative(&p, s.q, s.omega, wdot);
+            for k in 0..3 {
+                let fd = (a[4 + k] - b[4 + k]) / (2.0 * h);
+                assert!(rel(r[k], fd) < 1e-7, "{p:?} {k}: {} {fd}", r[k]);
+            }
+        }
+    }
+
+    #[test]
+    fn sensitivity_of_the_euler_state_moves_the_rigid_state() {
+        // dy0/dp of an Euler-angle state against differences of its conversion.
+        let e = [0.8, 0.3, -0.4, 0.6, 1.7, 11.0];
+        let rigid = |e: [f64; 6]| {
+            let q = quaternion_from_euler(e[1], e[0], e[2]);
+            let w = crate::rotation::omega_body_from_euler(e[0], e[2], e[3], e[4], e[5]);
+            (q, w)
+        };
+        let (q0, _) = rigid(e);
+        let conj = Quat([q0.0[0], -q0.0[1], -q0.0[2], -q0.0[3]]);
+        let h = 1e-6;
+        for j in 0..6 {
+            let (mut a, mut b) = (e, e);
+            a[j] += h;
+            b[j] -= h;
+            let ((qa, wa), (qb, wb)) = (rigid(a), rigid(b));
+            let v = euler_initial(e, j);
+            // xi from the quaternion's change: dq = q (0, xi) / 2.
+            let dq = Quat(std::array::from_fn(|i| (qa.0[i] - qb.0[i]) / (2.0 * h)));
+            let xi = conj.hamilton(dq);
+            for i in 0..3 {
+                assert!((v[i] - 2.0 * xi.0[1 + i]).abs() < 1e-8, "{j} xi {i}");
+                let fd = (wa[i] - wb[i]) / (2.0 * h);
+                assert!(rel(v[3 + i], fd) < 1e-8, "{j} omega {i}: {} {fd}", v[3 + i]);
+            }
+            // and back: the Euler angles' derivative along xi is the unit vector of j
+            if j < 3 {
+                let d = euler_derivative(q0, [v[0], v[1], v[2]]);
+                let unit = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]][j];
+                for i in 0..3 {
+                    assert!((d[i] - unit[i]).abs() < 1e-12, "{j} euler {i}: {d:?}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn sensitivities_leave_the_trajectory_bit_for_bit() {
+        let top = general();
+        let st = Settings {
+            t_end: 2.0,
+            ..Settings::default()
+        };
+        let plain = simulate::simulate(&top, &state(), &st, &mut [], &mut |_| true).unwrap();
+        let names: Vec<String> = ["I1", "com[1]", "omega[2]"].map(String::from).to_vec();
+        let sens = Sensitivities::new(&names, false, None).unwrap();
+        let out = simulate_with_sensitivities(&top, &state(), &st, &sens, &mut |_| true).unwrap();
+        assert_eq!(out.t, plain.t);
+        assert_eq!(out.rows, plain.rows);
+        assert_eq!(out.info.stats, plain.info.stats);
+        assert_eq!(out.sens.len(), 3 * out.t.len());
+    }
+
+    #[test]
+    fn sensitivity_names_are_checked() {
+        let n = |v: &[&str]| v.iter().map(|s| s.to_string()).collect::<Vec<_>>();
+        let e = Sensitivities::new(&n(&["I2"]), true, None).unwrap_err();
+        assert!(e.to_string().contains("\"I2\""), "{e}");
+        assert!(e.to_string().contains("I1, I3, m, l, g"), "{e}");
+        let e = Sensitivities::new(&n(&["m", "m"]), false, None).unwrap_err();
+        assert!(e.to_string().contains("at most once"), "{e}");
+        let e = Sensitivities::new(&n(&["theta"]), false, None).unwrap_err();
+        assert!(e.to_string().contains("orientation[0]"), "{e}");
+        assert!(Sensitivities::new(&n(&["theta"]), false, Some([0.5; 6])).is_ok());
+    }
+}

@@ -1,0 +1,115 @@
+//! Binding of a heavy top's run with forward sensitivities: conversion only (the names, the
+//! rules and the equations are the core's).
+
+use crate::errors::IntoPyResult;
+use crate::simulate::{
+    flat, heavy_state, native, put_rigid, settings, EventTuple, Native, PyRun, Rows, Signals,
+};
+use kreisel_core::models::heavy_top::sensitivity::{
+    euler_derivative, simulate_with_sensitivities, unavailable, Sensitivities,
+};
+use numpy::{IntoPyArray, PyReadonlyArray1};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+/// Simulates a native heavy top from a flat state (q, omega) with DOP853 and the
+/// sensitivities of `names`: parameters of the top (of a Lagrange top when `lagrange`) and
+/// fields of the initial state (of the Euler-angle state `euler` when given, else
+/// "orientation[i]" and "omega[i]"). Returns what `simulate` returns and `sensitivities`:
+/// per name a dict of `omega` (n, 3), `orientation` (n, 3, body-frame rotation vector),
+/// `quaternion` (n, 4), `theta`, `phi`, `psi` (n,). `control` puts the sensitivities into
+/// the step-size control too (off: the steps of a plain run).
+#[pyfunction]
+#[pyo3(signature = (model, state, t_end, method, rtol, atol, dt, t_eval, events, reduced, names, lagrange, euler=None, control=false))]
+#[allow(clippy::too_many_arguments)]
+pub fn simulate_sensitivities<'py>(
+    py: Python<'py>,
+    model: &Bound<'py, PyAny>,
+    state: Vec<f64>,
+    t_end: f64,
+    method: String,
+    rtol: f64,
+    atol: f64,
+    dt: Option<f64>,
+    t_eval: Option<PyReadonlyArray1<'py, f64>>,
+    events: Vec<EventTuple>,
+    reduced: bool,
+    names: Vec<String>,
+    lagrange: bool,
+    euler: Option<[f64; 6]>,
+    control: bool,
+) -> PyResult<Bound<'py, PyDict>> {
+    let top = match native(model)? {
+        Native::Heavy(top) => top,
+        Native::Driven(_) => return Err(unavailable(false)).py(py),
+        Native::Play(_) => return Err(unavailable(true)).py(py),
+    };
+    let mut sens = Sensitivities::new(&names, lagrange, euler).py(py)?;
+    sens.control = control;
+    let s0 = heavy_state(py, &state)?;
+    let te = match &t_eval {
+        Some(a) => Some(a.as_slice()?.to_vec()),
+        None => None,
+    };
+    let st = settings(t_end, method, rtol, atol, dt, te, &events, reduced)?;
+    let (out, signals) = py.detach(|| {
+        let mut signals = Signals::new();
+        let out = simulate_with_sensitivities(&top, &s0, &st, &sens, &mut |_| signals.keep_going());
+        (out, signals)
+    });
+    if let Some(e) = signals.error {
+        return Err(e);
+    }
+    let out = out.py(py)?;
+    let d = PyDict::new(py);
+    put_rigid(
+        py,
+        &d,
+        out.rows.iter().copied(),
+        top.column_names(),
+        &out.info,
+    )?;
+    let k = sens.params.len();
+    let all = PyDict::new(py);
+    for (j, name) in sens.names.iter().enumerate() {
+        let n = out.rows.len();
+        let (mut xi, mut dw, mut dq) = (
+            Vec::with_capacity(n),
+            Vec::with_capacity(n),
+            Vec::with_capacity(n),
+        );
+        let (mut th, mut ph, mut ps) = (
+            Vec::with_capacity(n),
+            Vec::with_capacity(n),
+            Vec::with_capacity(n),
+        );
+        for (i, s) in out.rows.iter().enumerate() {
+            let v = out.sens[i * k + j];
+            let x = [v[0], v[1], v[2]];
+            xi.push(x);
+            dw.push([v[3], v[4], v[5]]);
+            dq.push(s.q.half_times_pure(x));
+            let e = euler_derivative(s.q, x);
+            th.push(e[0]);
+            ph.push(e[1]);
+            ps.push(e[2]);
+        }
+        let one = PyDict::new(py);
+        one.set_item("omega", flat(py, &dw)?)?;
+        one.set_item("orientation", flat(py, &xi)?)?;
+        one.set_item("quaternion", flat(py, &dq)?)?;
+        one.set_item("theta", th.into_pyarray(py))?;
+        one.set_item("phi", ph.into_pyarray(py))?;
+        one.set_item("psi", ps.into_pyarray(py))?;
+        all.set_item(name, one)?;
+    }
+    d.set_item("sensitivities", all)?;
+    d.set_item("t", out.t.into_pyarray(py))?;
+    d.set_item(
+        "run",
+        PyRun {
+            rows: Rows::Heavy(top, out.rows),
+        },
+    )?;
+    Ok(d)
+}

@@ -293,6 +293,18 @@ impl Settings {
         Ok(info)
     }
 
+    /// DOP853 with these tolerances, its starting step chosen by the method and at most
+    /// [`MAX_STEPS`] step attempts.
+    pub fn dop853(&self) -> crate::integrate::Dop853 {
+        crate::integrate::Dop853 {
+            rtol: self.rtol,
+            atol: self.atol,
+            h_init: None,
+            h_max: f64::INFINITY,
+            max_steps: MAX_STEPS,
+        }
+    }
+
     /// The number of user event functions the settings refer to.
     pub fn user_events(&self) -> usize {
         self.events

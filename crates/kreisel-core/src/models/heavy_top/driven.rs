@@ -31,11 +31,11 @@ use crate::error::{finite, non_negative, KreiselError, Result};
 use crate::integrate::fixed::{self, FixedScheme};
 use crate::integrate::implicit::{Gauss4, Midpoint};
 use crate::integrate::rk4::Rk4Scheme;
-use crate::integrate::{Dop853, EventSpec, Locator, OdeSystem, Stream, WithEvents};
+use crate::integrate::{EventSpec, Locator, OdeSystem, Stream, WithEvents};
 use crate::rotation::{cross, dot, euler_from_quaternion, norm, Quat};
 use crate::simulate::{
     self, integrate_error, relative, Accumulate, EventKind, EventRecord, MethodInfo, Model,
-    RunInfo, Settings, Sink, Stats, Status, Unwrapped, UserFn, MAX_STEPS,
+    RunInfo, Settings, Sink, Stats, Status, Unwrapped, UserFn,
 };
 
 /// The dimension of the integrated state `(q, omega, W, D)`.
@@ -898,13 +898,7 @@ impl DrivenTop {
         keep_going: &mut dyn FnMut(f64) -> bool,
         sink: Sink<'_, DrivenRow>,
     ) -> Result<RunInfo> {
-        let integrator = Dop853 {
-            rtol: settings.rtol,
-            atol: settings.atol,
-            h_init: None,
-            h_max: f64::INFINITY,
-            max_steps: MAX_STEPS,
-        };
+        let integrator = settings.dop853();
         let t_end = settings.t_end;
         let dry = self.kdry > 0.0;
         // The rate below which a turning top counts as at rest relative to the pivot.

@@ -24,11 +24,9 @@
 use super::equations::normalize_quaternion;
 use super::{HeavyTop, RigidState};
 use crate::error::{KreiselError, Result};
-use crate::integrate::{Dop853, OdeSystem, Stream};
+use crate::integrate::{OdeSystem, Stream};
 use crate::rotation::{cross, Quat};
-use crate::simulate::{
-    self, integrate_error, RunInfo, Settings, Stats, Status, MAX_ROWS, MAX_STEPS,
-};
+use crate::simulate::{self, integrate_error, RunInfo, Settings, Stats, Status, MAX_ROWS};
 
 /// The parameters of a [`HeavyTop`] that have sensitivities, by their public names.
 pub const HEAVY_PARAMETERS: [&str; 8] = ["I1", "I2", "I3", "m", "g", "com[0]", "com[1]", "com[2]"];
@@ -442,13 +440,7 @@ fn run<const N: usize>(
             y0[7 + 6 * j..13 + 6 * j].copy_from_slice(v);
         }
     }
-    let integrator = Dop853 {
-        rtol: settings.rtol,
-        atol: settings.atol,
-        h_init: None,
-        h_max: f64::INFINITY,
-        max_steps: MAX_STEPS,
-    };
+    let integrator = settings.dop853();
     let (mut t, mut rows, mut out) = (Vec::new(), Vec::new(), Vec::new());
     let full = std::cell::Cell::new(false);
     let t_end = settings.t_end;
@@ -489,7 +481,6 @@ fn run<const N: usize>(
         };
         integrator.integrate(&sys, 0.0, y0, t_end, &mut stream)
     };
-    drop(stream);
     let (t1, _, st) = result.map_err(|e| integrate_error(e, t_end))?;
     if full.get() {
         return Err(KreiselError::invalid(

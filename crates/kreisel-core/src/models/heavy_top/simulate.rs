@@ -14,7 +14,7 @@ use crate::integrate::{Dop853, EventSpec, Locator, OdeSystem, Stream, WithEvents
 use crate::rotation::{dot, euler_from_quaternion, Quat};
 use crate::simulate::{
     self, integrate_error, relative, Accumulate, EventKind, EventRecord, MethodInfo, Model,
-    RunInfo, Settings, Sink, Stats, Status, Unwrapped, UserFn, MAX_STEPS,
+    RunInfo, Settings, Sink, Stats, Status, Unwrapped, UserFn,
 };
 
 /// The events a heavy top has.
@@ -59,13 +59,7 @@ impl Model for HeavyTop {
         let info = simulate::method(&settings.method)?;
         let top = self;
         if info.adaptive {
-            let integrator = Dop853 {
-                rtol: settings.rtol,
-                atol: settings.atol,
-                h_init: None,
-                h_max: f64::INFINITY,
-                max_steps: MAX_STEPS,
-            };
+            let integrator = settings.dop853();
             if settings.reduced {
                 let (sch, y0) = Verlet::new(top, s0)?;
                 let y0 = Verlet::pack(&y0);

@@ -195,6 +195,27 @@ def simulate(
     events: Sequence[EventTuple] = ...,
     reduced: bool = False,
 ) -> dict[str, Any]: ...
+def simulate_sensitivities(
+    model: HeavyTop | DrivenTop | PlayTop,
+    state: Sequence[float],
+    t_end: float,
+    method: str,
+    rtol: float,
+    atol: float,
+    dt: float | None,
+    t_eval: Sequence[float] | F64 | None,
+    events: Sequence[EventTuple],
+    reduced: bool,
+    names: Sequence[str],
+    lagrange: bool,
+    euler: Sequence[float] | None = None,
+    control: bool = False,
+) -> dict[str, Any]:
+    """A heavy top's run with DOP853 and forward sensitivities: what ``simulate`` returns
+    and ``sensitivities``, per name a dict of ``omega`` (n, 3), ``orientation`` (n, 3),
+    ``quaternion`` (n, 4), ``theta``, ``phi``, ``psi`` (n,). ``control`` puts them into the
+    step-size control."""
+
 def many(
     models: Sequence[HeavyTop | DrivenTop | PlayTop],
     states: Sequence[Sequence[float]],

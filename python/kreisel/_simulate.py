@@ -203,6 +203,7 @@ def simulate(
     t_eval: ArrayLike | None = None,
     events: Sequence[Event] | None = None,
     reduced: bool = False,
+    sensitivities: Sequence[str] | None = None,
 ) -> Trajectory:
     """Integrates the motion of a top from ``state`` (at t = 0) to ``t_end`` (s).
 
@@ -227,6 +228,18 @@ def simulate(
     reduced : bool
         LagrangeTop only: integrate theta and p_theta alone and rebuild phi and psi from the
         conserved momenta (the classical reduction to one degree of freedom).
+    sensitivities : list of str, optional
+        Forward sensitivities to integrate with the motion (method ``"dop853"``, no
+        ``events``; a top on a fixed pivot without damping): the derivatives of every row
+        with respect to each named parameter of the top and field of the initial state.
+        HeavyTop: ``"I1"``, ``"I2"``, ``"I3"``, ``"m"``, ``"g"``, ``"com[0]"``,
+        ``"com[1]"``, ``"com[2]"``; LagrangeTop: ``"I1"`` (both transverse moments),
+        ``"I3"``, ``"m"``, ``"l"``, ``"g"``. An EulerState: ``"theta"``, ``"phi"``,
+        ``"psi"``, ``"theta_dot"``, ``"phi_dot"``, ``"psi_dot"``; a RigidState:
+        ``"orientation[0]"`` .. ``"orientation[2]"`` (a body-frame rotation of the initial
+        orientation, ``q -> q exp(xi / 2)``) and ``"omega[0]"`` .. ``"omega[2]"``. The run
+        takes the same steps, and gives the same rows, as one without (see the theory
+        page, "Sensitivities").
 
     Returns
     -------
@@ -236,7 +249,11 @@ def simulate(
         ``Mz`` and, where they are integrals, ``M3`` and ``kovalevskaya``; for play tops
         ``com``, ``com_velocity``, ``u``, ``mode``, ``normal_force``, ``jellett``, ... .
         Attributes ``events`` (list of EventRecord), ``stats`` and ``status``
-        (``"completed"``, ``"event"`` or ``"interrupted"``).
+        (``"completed"``, ``"event"`` or ``"interrupted"``). ``sensitivities`` is None
+        unless asked for; then a dict from each name to a dict of arrays, one row per row of
+        the trajectory: ``"omega"`` (n, 3, d omega_body / dp), ``"orientation"`` (n, 3: the
+        body-frame vector xi with R(p + dp) = R(p) exp([xi dp]x)), ``"quaternion"`` (n, 4:
+        q (0, xi) / 2), ``"theta"``, ``"phi"``, ``"psi"`` (n,: of the unwrapped angles).
 
     Examples
     --------
@@ -250,15 +267,31 @@ def simulate(
     >>> traj = simulate(top, s, 1.0, events=[events.turning_points()])
     >>> len(traj.events), round(traj.events[0].t, 6)
     (18, 0.053387)
+    >>> traj = simulate(top, s, 1.0, t_eval=[0.0, 1.0], sensitivities=["I3", "theta"])
+    >>> sorted(traj.sensitivities["theta"])
+    ['omega', 'orientation', 'phi', 'psi', 'quaternion', 'theta']
+    >>> np.round(traj.sensitivities["theta"]["theta"], 6).tolist()
+    [1.0, 1.01889]
     """
     native, to_native = native_model(model)
     y0 = to_native(state)
     t_end, method, rtol, atol, dt, evs = _settings(t_end, method, rtol, atol, dt, events)
     te = None if t_eval is None else times("t_eval", t_eval)
-    out = _core.simulate(
-        native, y0, t_end, method, rtol, atol, dt, te, [_native_event(e) for e in evs],
-        bool(reduced),
-    )  # fmt: skip
+    nevs = [_native_event(e) for e in evs]
+    if sensitivities is None:
+        out = _core.simulate(native, y0, t_end, method, rtol, atol, dt, te, nevs, bool(reduced))
+        sens = None
+    else:
+        from ._lagrange import LagrangeTop
+        from ._state import EulerState
+
+        wanted = _sensitivity_names(sensitivities)
+        euler = list(state.as_tuple()) if isinstance(state, EulerState) else None
+        out = _core.simulate_sensitivities(
+            native, y0, t_end, method, rtol, atol, dt, te, nevs, bool(reduced), wanted,
+            isinstance(model, LagrangeTop), euler,
+        )  # fmt: skip
+        sens = out.pop("sensitivities")
     stats, status = out.pop("stats"), out.pop("status")
     names_of_parts = getattr(model, "part_names", None)
 
@@ -271,13 +304,27 @@ def simulate(
     if "mode" in out:
         cols["mode"] = np.array(names()["modes"])[out.pop("mode")]
     cols.update(out)
-    meta: dict[str, Any] = {}
+    meta: dict[str, Any] = {"sensitivities": sens}
     if names_of_parts is not None:
         meta["part_names"] = names_of_parts
     return Trajectory(
         cols, model=model, state=state, method=method, stats=stats, events=records,
         status=status, **meta,
     )  # fmt: skip
+
+
+def _sensitivity_names(value) -> list[str]:
+    """The names of ``sensitivities=``, a list of str (the core checks each name)."""
+    if isinstance(value, (str, bytes)) or not isinstance(value, Sequence):
+        raise ParameterError(
+            f'sensitivities = {value!r} is not allowed: give a list of names, e.g. ["I3", "theta"]'
+        )
+    bad = [v for v in value if not isinstance(v, str)]
+    if bad:
+        raise ParameterError(
+            f"sensitivities contains {bad[0]!r}, which is not allowed: each name is a str"
+        )
+    return list(value)
 
 
 @functools.cache

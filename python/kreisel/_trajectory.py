@@ -150,6 +150,14 @@ class Trajectory:
         return sorted(set(super().__dir__()) | set(self._cols) | set(self._meta))
 
     @property
+    def sensitivities(self) -> dict[str, dict[str, np.ndarray]] | None:
+        """The forward sensitivities of the run, if :func:`kreisel.simulate` was asked for
+        them (``sensitivities=[...]``): a dict from each name to a dict of arrays
+        (``"omega"``, ``"orientation"``, ``"quaternion"``, ``"theta"``, ``"phi"``,
+        ``"psi"``), one row per row of the trajectory; else None."""
+        return self._meta.get("sensitivities")
+
+    @property
     def columns(self) -> list[str]:
         """Names of the columns."""
         return list(self._cols)

@@ -176,6 +176,23 @@ def differences(run, p, name, h):
     }
 
 
+def agree_with_differences(run, p, traj, names):
+    """Every sensitivity of `traj` (a run of `run` from `p`) against central differences:
+    steps relative to a parameter's value (I1 is 0.0125), absolute ones of 1e-5 (rad, rad/s;
+    1e-5 of values above 1) for the state."""
+    for name in names:
+        if name.startswith("com["):
+            h = 1e-5 * abs(p["com"][int(name[4])])
+        elif name in p:
+            h = 1e-5 * abs(p[name])
+        else:
+            h = 1e-5 * max(abs(p["state"].get(name, 1.0)), 1.0)
+        ref = differences(run, p, name, h)
+        for key in KEYS:
+            size = 1.0 if key == "orientation" else max(np.abs(traj[key]).max(), 1.0)
+            close(traj.sensitivities[name][key], ref[key], f"{name} {key}", size)
+
+
 def general_params():
     return {**GENERAL, "state": dict(GENERAL_START)}
 
@@ -185,12 +202,7 @@ def test_general_top_sensitivities_are_the_finite_differences_of_its_runs():
     names = HEAVY_NAMES + EULER_NAMES
     traj = general_run(p, sensitivities=names)
     assert list(traj.sensitivities) == names
-    for name in names:
-        h = 1e-5 * max(abs(p.get(name, p["state"].get(name, 1.0))), 1.0)
-        ref = differences(general_run, p, name, h)
-        for key in KEYS:
-            size = 1.0 if key == "orientation" else max(np.abs(traj[key]).max(), 1.0)
-            close(traj.sensitivities[name][key], ref[key], f"{name} {key}", size)
+    agree_with_differences(general_run, p, traj, names)
 
 
 def test_rigid_state_sensitivities_are_the_finite_differences_of_its_runs():
@@ -198,11 +210,7 @@ def test_rigid_state_sensitivities_are_the_finite_differences_of_its_runs():
     p = {**GENERAL, "state": {"q": q / np.linalg.norm(q), "omega": [0.5, -0.3, 8.0]}}
     run = lambda p, **kw: general_run(p, "rigid", **kw)  # noqa: E731
     traj = run(p, sensitivities=RIGID_NAMES)
-    for name in RIGID_NAMES:
-        ref = differences(run, p, name, 1e-5)
-        for key in KEYS:
-            size = 1.0 if key == "orientation" else max(np.abs(traj[key]).max(), 1.0)
-            close(traj.sensitivities[name][key], ref[key], f"{name} {key}", size)
+    agree_with_differences(run, p, traj, RIGID_NAMES)
 
 
 def lagrange_run(p, **kw):
@@ -214,13 +222,7 @@ def test_lagrange_top_sensitivities_are_the_finite_differences_of_its_runs():
     p = {**LAG, "state": dict(LAG_START)}
     names = LAG_NAMES + EULER_NAMES
     traj = lagrange_run(p, sensitivities=names)
-    for name in names:
-        # relative steps for the parameters (I1 is 0.0125), absolute ones for the state
-        h = 1e-5 * (abs(p[name]) if name in p else max(abs(p["state"][name]), 1.0))
-        ref = differences(lagrange_run, p, name, h)
-        for key in KEYS:
-            size = 1.0 if key == "orientation" else max(np.abs(traj[key]).max(), 1.0)
-            close(traj.sensitivities[name][key], ref[key], f"{name} {key}", size)
+    agree_with_differences(lagrange_run, p, traj, names)
 
 
 def test_a_run_with_sensitivities_is_the_run_without_bit_for_bit():
@@ -247,11 +249,18 @@ def test_exact_solutions_and_other_trajectories_have_no_sensitivities():
 # ---------------------------------------------------------------------------- complex step
 
 
-def complex_step(p, start, *, name, h=1e-30):
+def complex_step(p, start, *, name, h=1e-30, damping=(0.0, 0.0)):
     """The sensitivities (omega and body-frame xi) of the heavy top in `name` by the complex
-    step: the equations in (R, omega), integrated by scipy's DOP853 with complex y."""
+    step: the equations in (R, omega) with the pivot's torque -(c + k |omega|) omega
+    (|omega| as sqrt(omega . omega), analytic in complex numbers), integrated by scipy's
+    DOP853 with complex y."""
     inertia = np.array([p["I1"], p["I2"], p["I3"]], dtype=complex)
     m, g = complex(p["m"]), complex(p["g"])
+    c, k = complex(damping[0]), complex(damping[1])
+    if name == "viscous":
+        c += 1j * h
+    elif name == "drag":
+        k += 1j * h
     com = np.array(p["com"], dtype=complex)
     e = dict(start)
     if name in ("I1", "I2", "I3"):
@@ -262,8 +271,8 @@ def complex_step(p, start, *, name, h=1e-30):
         g += 1j * h
     elif name.startswith("com["):
         com[int(name[4])] += 1j * h
-    else:
-        e = {k: complex(v) for k, v in e.items()}
+    elif name in e:
+        e = {key: complex(v) for key, v in e.items()}
         e[name] += 1j * h
     r0 = euler_matrix(e["phi"], e["theta"], e["psi"])
     w0 = body_rates(e["theta"], e["psi"], e["theta_dot"], e["phi_dot"], e["psi_dot"])
@@ -288,7 +297,8 @@ def complex_step(p, start, *, name, h=1e-30):
             ]
         )
         rw = r @ np.array([[0, -w[2], w[1]], [w[2], 0, -w[0]], [-w[1], w[0], 0]])
-        return np.concatenate([rw.ravel(), (gyro + torque) / inertia])
+        damp = -(c + k * np.sqrt(w @ w)) * w
+        return np.concatenate([rw.ravel(), (gyro + torque + damp) / inertia])
 
     y0 = np.concatenate([np.asarray(r0, dtype=complex).ravel(), np.asarray(w0, dtype=complex)])
     sol = solve_ivp(rhs, (0.0, 1.0), y0, method="DOP853", t_eval=T_EVAL, rtol=1e-13, atol=1e-14)
@@ -305,6 +315,36 @@ def test_general_top_sensitivities_are_the_complex_step_of_a_second_formulation(
     for key in ("omega", "orientation"):
         size = 1.0 if key == "orientation" else max(np.abs(traj[key]).max(), 1.0)
         close(traj.sensitivities[name][key], ref[key], f"{name} {key}", size)
+
+
+DAMPING = {"viscous": 0.05, "drag": 0.02}
+
+
+@pytest.mark.parametrize("name", ["viscous", "drag", "I2", "com[0]", "theta", "psi_dot"])
+def test_damped_top_sensitivities_are_the_complex_step_of_a_second_formulation(name):
+    top = kreisel.HeavyTop(**GENERAL, damping=kreisel.PivotDamping(**DAMPING))
+    traj = kreisel.simulate(
+        top, top.state(**GENERAL_START), 1.0, t_eval=T_EVAL, **TIGHT, sensitivities=[name]
+    )
+    ref = complex_step(GENERAL, GENERAL_START, name=name, damping=tuple(DAMPING.values()))
+    for key in ("omega", "orientation"):
+        close(traj.sensitivities[name][key], ref[key], f"{name} {key}")
+
+
+def damped_lagrange_run(p, **kw):
+    damping = kreisel.PivotDamping(viscous=p["viscous"], drag=p["drag"])
+    top = kreisel.LagrangeTop(p["I1"], p["I3"], p["m"], p["l"], p["g"], damping=damping)
+    return kreisel.simulate(top, top.state(**p["state"]), 1.0, t_eval=T_EVAL, **TIGHT, **kw)
+
+
+def test_damped_lagrange_top_sensitivities_are_the_finite_differences_of_its_runs():
+    p = {**LAG, "viscous": 1e-4, "drag": 2e-6, "state": dict(LAG_START)}
+    names = ["viscous", "drag", "I1", "l", "theta", "psi_dot"]
+    traj = damped_lagrange_run(p, sensitivities=names)
+    plain = damped_lagrange_run(p)
+    np.testing.assert_array_equal(traj.quaternion, plain.quaternion)
+    np.testing.assert_array_equal(traj.dissipated, plain.dissipated)
+    agree_with_differences(damped_lagrange_run, p, traj, names)
 
 
 # ---------------------------------------------------------------------------- exact solution
@@ -397,9 +437,14 @@ def test_sensitivities_refuse_other_methods_events_and_models():
     ev = kreisel.events.turning_points()
     with pytest.raises(kreisel.ParameterError, match="events = 1 event.*no events"):
         kreisel.simulate(top, s, 0.1, events=[ev], sensitivities=["m"])
-    damped = kreisel.LagrangeTop(**LAG, damping=kreisel.PivotDamping(viscous=1e-4))
-    with pytest.raises(kreisel.ParameterError, match="fixed pivot without damping"):
-        kreisel.simulate(damped, s, 0.1, sensitivities=["m"])
+    with pytest.raises(kreisel.ParameterError, match='"viscous".*damping=PivotDamping'):
+        kreisel.simulate(top, s, 0.1, sensitivities=["viscous"])
+    dry = kreisel.LagrangeTop(**LAG, damping=kreisel.PivotDamping(dry=0.1, pivot_radius=1e-3))
+    with pytest.raises(kreisel.ParameterError, match="dry friction at the pivot have none"):
+        kreisel.simulate(dry, s, 0.1, sensitivities=["m"])
+    shaken = kreisel.LagrangeTop(**LAG, pivot=kreisel.pivots.Harmonic([0, 0, 1e-3], 100.0))
+    with pytest.raises(kreisel.ParameterError, match="a moving pivot"):
+        kreisel.simulate(shaken, s, 0.1, sensitivities=["m"])
     play = kreisel.PlayTop(m=0.03, A=4e-6, C=5e-6, s=0.004, rho=0.025, g=9.7)
     with pytest.raises(kreisel.ParameterError, match="tops on a floor are not available yet"):
         kreisel.simulate(play, play.state(theta=0.2, psi_dot=100.0), 0.1, sensitivities=["m"])

@@ -230,11 +230,12 @@ def simulate(
         conserved momenta (the classical reduction to one degree of freedom).
     sensitivities : list of str, optional
         Forward sensitivities to integrate with the motion (method ``"dop853"``, no
-        ``events``; a top on a fixed pivot without damping): the derivatives of every row
-        with respect to each named parameter of the top and field of the initial state.
-        HeavyTop: ``"I1"``, ``"I2"``, ``"I3"``, ``"m"``, ``"g"``, ``"com[0]"``,
-        ``"com[1]"``, ``"com[2]"``; LagrangeTop: ``"I1"`` (both transverse moments),
-        ``"I3"``, ``"m"``, ``"l"``, ``"g"``. An EulerState: ``"theta"``, ``"phi"``,
+        ``events``; a top on a fixed pivot, undamped or with viscous and drag damping): the
+        derivatives of every row with respect to each named parameter of the top and field
+        of the initial state. HeavyTop: ``"I1"``, ``"I2"``, ``"I3"``, ``"m"``, ``"g"``,
+        ``"com[0]"``, ``"com[1]"``, ``"com[2]"``; LagrangeTop: ``"I1"`` (both transverse
+        moments), ``"I3"``, ``"m"``, ``"l"``, ``"g"``; with a ``PivotDamping`` also
+        ``"viscous"`` and ``"drag"``. An EulerState: ``"theta"``, ``"phi"``,
         ``"psi"``, ``"theta_dot"``, ``"phi_dot"``, ``"psi_dot"``; a RigidState:
         ``"orientation[0]"`` .. ``"orientation[2]"`` (a body-frame rotation of the initial
         orientation, ``q -> q exp(xi / 2)``) and ``"omega[0]"`` .. ``"omega[2]"``. The run

@@ -59,7 +59,7 @@ fn main() {
     ];
     for k in [1, 5, 14] {
         let names: Vec<String> = all[..k].iter().map(|s| s.to_string()).collect();
-        let sens = Sensitivities::new(&names, false, Some(euler)).unwrap();
+        let sens = Sensitivities::new(&names, false, false, Some(euler)).unwrap();
         let mut b = f64::MAX;
         let mut last = None;
         for _ in 0..reps {

@@ -6,14 +6,19 @@ use crate::simulate::{
     flat, heavy_state, native, put_rigid, settings, EventTuple, Native, PyRun, Rows, Signals,
 };
 use kreisel_core::models::heavy_top::sensitivity::{
-    euler_derivative, simulate_with_sensitivities, unavailable, Sensitivities,
+    euler_derivative, simulate_damped_with_sensitivities, simulate_with_sensitivities, unavailable,
+    Sensitivities,
 };
+use kreisel_core::models::heavy_top::RigidState;
+use kreisel_core::simulate::Model;
 use numpy::{IntoPyArray, PyReadonlyArray1};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-/// Simulates a native heavy top from a flat state (q, omega) with DOP853 and the
-/// sensitivities of `names`: parameters of the top (of a Lagrange top when `lagrange`) and
+/// Simulates a native heavy top (or a damped one on a fixed pivot, whose damping
+/// coefficients "viscous" and "drag" have sensitivities too) from a flat state (q, omega)
+/// with DOP853 and the sensitivities of `names`: parameters of the top (of a Lagrange top
+/// when `lagrange`) and
 /// fields of the initial state (of the Euler-angle state `euler` when given, else
 /// "orientation[i]" and "omega[i]"). Returns what `simulate` returns and `sensitivities`:
 /// per name a dict of `omega` (n, 3), `orientation` (n, 3, body-frame rotation vector),
@@ -39,12 +44,13 @@ pub fn simulate_sensitivities<'py>(
     euler: Option<[f64; 6]>,
     control: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let top = match native(model)? {
-        Native::Heavy(top) => top,
-        Native::Driven(_) => return Err(unavailable(false)).py(py),
+    let model = native(model)?;
+    let damped = match &model {
+        Native::Heavy(_) => false,
+        Native::Driven(_) => true,
         Native::Play(_) => return Err(unavailable(true)).py(py),
     };
-    let mut sens = Sensitivities::new(&names, lagrange, euler).py(py)?;
+    let mut sens = Sensitivities::new(&names, lagrange, damped, euler).py(py)?;
     sens.control = control;
     let s0 = heavy_state(py, &state)?;
     let te = match &t_eval {
@@ -52,27 +58,32 @@ pub fn simulate_sensitivities<'py>(
         None => None,
     };
     let st = settings(t_end, method, rtol, atol, dt, te, &events, reduced)?;
-    let (out, signals) = py.detach(|| {
-        let mut signals = Signals::new();
-        let out = simulate_with_sensitivities(&top, &s0, &st, &sens, &mut |_| signals.keep_going());
-        (out, signals)
-    });
-    if let Some(e) = signals.error {
-        return Err(e);
-    }
-    let out = out.py(py)?;
     let d = PyDict::new(py);
-    put_rigid(
-        py,
-        &d,
-        out.rows.iter().copied(),
-        top.column_names(),
-        &out.info,
-    )?;
+    let (t, states, values, rows) = match model {
+        Native::Heavy(top) => {
+            let out = released(py, |go| {
+                simulate_with_sensitivities(&top, &s0, &st, &sens, go)
+            })?;
+            let states = out.rows.clone();
+            let names = top.column_names();
+            put_rigid(py, &d, states.iter().copied(), names, &out.info)?;
+            (out.t, states, out.sens, Rows::Heavy(top, out.rows))
+        }
+        Native::Driven(top) => {
+            let out = released(py, |go| {
+                simulate_damped_with_sensitivities(&top, &s0, &st, &sens, go)
+            })?;
+            let states: Vec<RigidState> = out.rows.iter().map(|r| r.state()).collect();
+            let names = top.column_names();
+            put_rigid(py, &d, states.iter().copied(), names, &out.info)?;
+            (out.t, states, out.sens, Rows::Driven(top, out.rows))
+        }
+        Native::Play(_) => unreachable!("refused above"),
+    };
     let k = sens.params.len();
+    let n = states.len();
     let all = PyDict::new(py);
     for (j, name) in sens.names.iter().enumerate() {
-        let n = out.rows.len();
         let (mut xi, mut dw, mut dq) = (
             Vec::with_capacity(n),
             Vec::with_capacity(n),
@@ -83,8 +94,8 @@ pub fn simulate_sensitivities<'py>(
             Vec::with_capacity(n),
             Vec::with_capacity(n),
         );
-        for (i, s) in out.rows.iter().enumerate() {
-            let v = out.sens[i * k + j];
+        for (i, s) in states.iter().enumerate() {
+            let v = values[i * k + j];
             let x = [v[0], v[1], v[2]];
             xi.push(x);
             dw.push([v[3], v[4], v[5]]);
@@ -104,12 +115,23 @@ pub fn simulate_sensitivities<'py>(
         all.set_item(name, one)?;
     }
     d.set_item("sensitivities", all)?;
-    d.set_item("t", out.t.into_pyarray(py))?;
-    d.set_item(
-        "run",
-        PyRun {
-            rows: Rows::Heavy(top, out.rows),
-        },
-    )?;
+    d.set_item("t", t.into_pyarray(py))?;
+    d.set_item("run", PyRun { rows })?;
     Ok(d)
+}
+
+/// Runs `f` with the interpreter released, stopping it at a signal (Ctrl-C), which is then
+/// raised.
+fn released<T: Send>(
+    py: Python<'_>,
+    f: impl FnOnce(&mut dyn FnMut(f64) -> bool) -> kreisel_core::Result<T> + Send,
+) -> PyResult<T> {
+    let (out, signals) = py.detach(|| {
+        let mut signals = Signals::new();
+        (f(&mut |_| signals.keep_going()), signals)
+    });
+    if let Some(e) = signals.error {
+        return Err(e);
+    }
+    out.py(py)
 }

@@ -709,6 +709,27 @@ impl<const MOMENTUM: bool, const STUCK: bool> OdeSystem<DIM> for Driven<'_, MOME
     }
 }
 
+impl super::sensitivity::Carrier<DIM> for Driven<'_, false, false> {
+    fn top(&self) -> &HeavyTop {
+        &self.top.top
+    }
+    fn damping(&self) -> [f64; 2] {
+        [self.top.damping.viscous, self.top.damping.drag]
+    }
+}
+
+impl DrivenTop {
+    /// The system a run from `s0` integrates while the top turns (not stuck), and its
+    /// initial state `(q, omega, 0, 0)`.
+    pub(super) fn smooth_system(&self, s0: &RigidState) -> (Driven<'_, false, false>, [f64; DIM]) {
+        let sys = Driven::<false, false> {
+            top: self,
+            energy: self.energy_scale(s0),
+        };
+        (sys, pack9(s0))
+    }
+}
+
 fn pack9(s: &RigidState) -> [f64; DIM] {
     let p = pack(s);
     let mut y = [0.0; DIM];

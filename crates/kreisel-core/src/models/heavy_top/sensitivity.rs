@@ -21,18 +21,22 @@
 //! steps and are left out of the step-size control (see [`Sensitivities::control`] and the
 //! theory page for the measurements behind that choice).
 
-use super::equations::normalize_quaternion;
+use super::driven::{DrivenRow, DrivenTop, Pivot, DIM};
+use super::equations::{pack, unpack, QOmega};
 use super::{HeavyTop, RigidState};
 use crate::error::{KreiselError, Result};
 use crate::integrate::{OdeSystem, Stream};
-use crate::rotation::{cross, Quat};
-use crate::simulate::{self, integrate_error, RunInfo, Settings, Stats, Status, MAX_ROWS};
+use crate::rotation::{cross, dot, Quat};
+use crate::simulate::{self, integrate_error, Model, RunInfo, Settings, Stats, Status, MAX_ROWS};
 
 /// The parameters of a [`HeavyTop`] that have sensitivities, by their public names.
 pub const HEAVY_PARAMETERS: [&str; 8] = ["I1", "I2", "I3", "m", "g", "com[0]", "com[1]", "com[2]"];
 /// The parameters of a Lagrange top (`I1 == I2`, `c = (0, 0, l)`): "I1" moves both
 /// transverse moments.
 pub const LAGRANGE_PARAMETERS: [&str; 5] = ["I1", "I3", "m", "l", "g"];
+/// The coefficients of the torque at a fixed pivot, `-(viscous + drag |omega|) omega`, of a
+/// damped top (without dry friction).
+pub const DAMPING_PARAMETERS: [&str; 2] = ["viscous", "drag"];
 /// The fields of a state in Euler angles.
 pub const EULER_FIELDS: [&str; 6] = ["theta", "phi", "psi", "theta_dot", "phi_dot", "psi_dot"];
 /// The fields of a state as (orientation, body rates): the orientation's body-frame
@@ -59,6 +63,10 @@ pub enum Param {
     Gravity,
     /// A component of the centre of mass (body frame).
     Com(usize),
+    /// The viscous coefficient of the torque at the pivot.
+    Viscous,
+    /// The drag coefficient of the torque at the pivot.
+    Drag,
     /// The initial state: the body-frame rotation vector and body rates it moves,
     /// `(xi, d_omega)` at t = 0.
     Initial([f64; 6]),
@@ -78,22 +86,31 @@ pub struct Sensitivities {
     pub control: bool,
 }
 
-/// The largest number of sensitivities a run carries (every parameter of a heavy top and
-/// every field of its state).
-pub const MAX_SENSITIVITIES: usize = HEAVY_PARAMETERS.len() + EULER_FIELDS.len();
+/// The largest number of sensitivities a run carries (every parameter of a damped heavy top
+/// and every field of its state).
+pub const MAX_SENSITIVITIES: usize =
+    HEAVY_PARAMETERS.len() + DAMPING_PARAMETERS.len() + EULER_FIELDS.len();
 
 impl Sensitivities {
     /// The sensitivities of `names`: parameters of a heavy top (or of a Lagrange top when
-    /// `lagrange`), and fields of the initial state: of an Euler-angle state
-    /// `(theta, phi, psi, theta_dot, phi_dot, psi_dot)` when `euler` is given, else of a
-    /// state as (quaternion, omega). An unknown or repeated name is an error naming it and
-    /// the allowed ones.
-    pub fn new(names: &[String], lagrange: bool, euler: Option<[f64; 6]>) -> Result<Self> {
-        let params: &[&str] = if lagrange {
-            &LAGRANGE_PARAMETERS
+    /// `lagrange`; with [`DAMPING_PARAMETERS`] when `damped`), and fields of the initial
+    /// state: of an Euler-angle state `(theta, phi, psi, theta_dot, phi_dot, psi_dot)` when
+    /// `euler` is given, else of a state as (quaternion, omega). An unknown or repeated name
+    /// is an error naming it and the allowed ones.
+    pub fn new(
+        names: &[String],
+        lagrange: bool,
+        damped: bool,
+        euler: Option<[f64; 6]>,
+    ) -> Result<Self> {
+        let mut params: Vec<&str> = if lagrange {
+            LAGRANGE_PARAMETERS.to_vec()
         } else {
-            &HEAVY_PARAMETERS
+            HEAVY_PARAMETERS.to_vec()
         };
+        if damped {
+            params.extend(DAMPING_PARAMETERS);
+        }
         let fields: &[&str] = if euler.is_some() {
             &EULER_FIELDS
         } else {
@@ -108,7 +125,18 @@ impl Sensitivities {
                     allowed: "each name at most once".into(),
                 });
             }
-            let p = if let Some(j) = params.iter().position(|p| p == name) {
+            let p = if let Some(j) = DAMPING_PARAMETERS.iter().position(|p| p == name) {
+                if !damped {
+                    return Err(KreiselError::InvalidParameter {
+                        name: "sensitivities".into(),
+                        value: format!("{name:?}"),
+                        allowed: "a damping coefficient has a sensitivity where the top is \
+                                  given damping=PivotDamping(...)"
+                            .into(),
+                    });
+                }
+                [Param::Viscous, Param::Drag][j]
+            } else if let Some(j) = params.iter().position(|p| p == name) {
                 if lagrange {
                     [
                         Param::Transverse,
@@ -177,7 +205,7 @@ impl Sensitivities {
 }
 
 /// The error for a model that has no sensitivities yet: `floor` for a top on a floor, else
-/// a top on a moving or damped pivot.
+/// a top on a moving pivot or with dry friction at it.
 pub fn unavailable(floor: bool) -> KreiselError {
     KreiselError::InvalidParameter {
         name: "sensitivities".into(),
@@ -185,8 +213,8 @@ pub fn unavailable(floor: bool) -> KreiselError {
         allowed: if floor {
             "sensitivities of tops on a floor are not available yet".into()
         } else {
-            "sensitivities are available for a top on a fixed pivot without damping; a \
-             moving or damped pivot has none yet"
+            "sensitivities are available for a top on a fixed pivot, undamped or with viscous \
+             and drag damping; a moving pivot and dry friction at the pivot have none yet"
                 .into()
         },
     }
@@ -304,40 +332,75 @@ impl HeavyTop {
                 d[k] = self.m * self.g;
                 torque(d)
             }
-            Param::Initial(_) => return [0.0; 3],
+            Param::Initial(_) | Param::Viscous | Param::Drag => return [0.0; 3],
         };
         [r[0] * inv[0], r[1] * inv[1], r[2] * inv[2]]
     }
 }
 
-/// The heavy top in `y = (q, omega)` with the sensitivities `(xi, d_omega)` of each
-/// parameter after it: `N = 7 + 6 K`, the columns past `params.len()` unused (zero).
-struct WithSensitivities<'a, const AXIAL: bool> {
-    top: &'a HeavyTop,
+/// What the sensitivities ride on: a first-order system whose first seven components are
+/// `(q, omega)` of `top()` (a plain heavy top, or a damped one on a fixed pivot with its
+/// work and dissipated energy after them), with viscous and drag torques `-(c + k |omega|)
+/// omega` at its pivot.
+pub trait Carrier<const M: usize>: OdeSystem<M> {
+    /// The top.
+    fn top(&self) -> &HeavyTop;
+    /// The viscous and drag coefficients `(c, k)` of the torque at the pivot.
+    fn damping(&self) -> [f64; 2] {
+        [0.0; 2]
+    }
+}
+
+impl<const AXIAL: bool> Carrier<7> for QOmega<'_, AXIAL> {
+    fn top(&self) -> &HeavyTop {
+        self.0
+    }
+}
+
+/// The tangent of the damping torque `-(c + k |omega|) omega` along `d_omega`.
+#[inline(always)]
+fn damping_tangent([c, k]: [f64; 2], omega: [f64; 3], dw: [f64; 3]) -> [f64; 3] {
+    let wn = dot(omega, omega).sqrt();
+    let along = if wn > 0.0 {
+        k * dot(omega, dw) / wn
+    } else {
+        0.0
+    };
+    let a = c + k * wn;
+    [
+        -a * dw[0] - along * omega[0],
+        -a * dw[1] - along * omega[1],
+        -a * dw[2] - along * omega[2],
+    ]
+}
+
+/// A carrier of M components with the sensitivities `(xi, d_omega)` of each parameter after
+/// it: `N = M + 6 K`, the columns past `params.len()` unused (zero). The carrier's own
+/// right-hand side, projection and error scale, so that it runs as a plain run does.
+struct WithSensitivities<'a, B, const M: usize> {
+    base: &'a B,
     params: &'a [Param],
     control: bool,
 }
 
-impl<const AXIAL: bool, const N: usize> OdeSystem<N> for WithSensitivities<'_, AXIAL> {
+impl<B: Carrier<M>, const M: usize, const N: usize> OdeSystem<N> for WithSensitivities<'_, B, M> {
     #[inline(always)]
-    fn rhs(&self, _t: f64, y: &[f64; N], dy: &mut [f64; N]) {
-        let top = self.top;
-        let mut y7 = [0.0; 7];
-        y7.copy_from_slice(&y[..7]);
-        let mut d7 = [0.0; 7];
-        // The trajectory's own right-hand side, so that it runs as a plain run does.
-        if AXIAL {
-            top.rhs_axial(&y7, &mut d7);
-        } else {
-            top.rhs(&y7, &mut d7);
-        }
-        dy[..7].copy_from_slice(&d7);
+    fn rhs(&self, t: f64, y: &[f64; N], dy: &mut [f64; N]) {
+        let top = self.base.top();
+        let mut ym = [0.0; M];
+        ym.copy_from_slice(&y[..M]);
+        let mut dm = [0.0; M];
+        self.base.rhs(t, &ym, &mut dm);
+        dy[..M].copy_from_slice(&dm);
         let gamma = Quat([y[0], y[1], y[2], y[3]]).up_in_body();
         let omega = [y[4], y[5], y[6]];
         let mom = top.momentum(omega);
-        let omega_dot = [d7[4], d7[5], d7[6]];
+        let omega_dot = [dm[4], dm[5], dm[6]];
+        let damping = self.base.damping();
+        let damped = damping != [0.0; 2];
+        let inv = top.inv_inertia;
         for (j, p) in self.params.iter().enumerate() {
-            let b = 7 + 6 * j;
+            let b = M + 6 * j;
             let mut v = [0.0; 6];
             v.copy_from_slice(&y[b..b + 6]);
             let mut d = top.tangent(gamma, omega, mom, &v);
@@ -345,34 +408,57 @@ impl<const AXIAL: bool, const N: usize> OdeSystem<N> for WithSensitivities<'_, A
             for i in 0..3 {
                 d[3 + i] += r[i];
             }
+            if damped {
+                let dt = damping_tangent(damping, omega, [v[3], v[4], v[5]]);
+                let wn = dot(omega, omega).sqrt();
+                // the coefficients' own terms: -omega and -|omega| omega
+                let own = match p {
+                    Param::Viscous => 1.0,
+                    Param::Drag => wn,
+                    _ => 0.0,
+                };
+                for i in 0..3 {
+                    d[3 + i] += (dt[i] - own * omega[i]) * inv[i];
+                }
+            }
             dy[b..b + 6].copy_from_slice(&d);
         }
-        for x in dy[7 + 6 * self.params.len()..].iter_mut() {
+        for x in dy[M + 6 * self.params.len()..].iter_mut() {
             *x = 0.0;
         }
     }
 
     fn project(&self, y: &mut [f64; N]) {
-        normalize_quaternion(y);
+        let mut ym = [0.0; M];
+        ym.copy_from_slice(&y[..M]);
+        self.base.project(&mut ym);
+        y[..M].copy_from_slice(&ym);
+    }
+
+    #[inline(always)]
+    fn magnitude_floor(&self) -> [f64; N] {
+        let mut f = [0.0; N];
+        f[..M].copy_from_slice(&self.base.magnitude_floor());
+        f
     }
 
     #[inline(always)]
     fn controlled(&self) -> usize {
         if self.control {
-            7 + 6 * self.params.len()
+            M + 6 * self.params.len()
         } else {
-            7
+            self.base.controlled()
         }
     }
 }
 
-/// A run with sensitivities: times, states, and per row and parameter `(xi, d_omega)`.
+/// A run with sensitivities: times, rows, and per row and parameter `(xi, d_omega)`.
 #[derive(Debug, Clone)]
-pub struct SensitivitySolution {
+pub struct SensitivitySolution<R> {
     /// Times (s).
     pub t: Vec<f64>,
-    /// States at those times.
-    pub rows: Vec<RigidState>,
+    /// Rows at those times.
+    pub rows: Vec<R>,
     /// `(xi, d_omega)` of every parameter at every time: row-major, `sens[i * k + j]` for
     /// row i and parameter j of k.
     pub sens: Vec<[f64; 6]>,
@@ -380,15 +466,9 @@ pub struct SensitivitySolution {
     pub info: RunInfo,
 }
 
-/// Simulates `top` from `s0` with the sensitivities `sens` (method "dop853", no events):
-/// the rows are those of [`simulate::simulate`] with the same settings.
-pub fn simulate_with_sensitivities(
-    top: &HeavyTop,
-    s0: &RigidState,
-    settings: &Settings,
-    sens: &Sensitivities,
-    keep_going: &mut dyn FnMut(f64) -> bool,
-) -> Result<SensitivitySolution> {
+/// The rules of a run with sensitivities: method "dop853", no events, not the reduced
+/// route, 1 to [`MAX_SENSITIVITIES`] names; then the model's own checks.
+fn check<T: Model>(model: &T, settings: &Settings, sens: &Sensitivities) -> Result<()> {
     if settings.method != "dop853" {
         return Err(KreiselError::InvalidParameter {
             name: "method".into(),
@@ -405,7 +485,7 @@ pub fn simulate_with_sensitivities(
                 .into(),
         });
     }
-    simulate::check(top, settings, 0)?;
+    simulate::check(model, settings, 0)?;
     if settings.reduced {
         return Err(KreiselError::InvalidParameter {
             name: "reduced".into(),
@@ -422,35 +502,113 @@ pub fn simulate_with_sensitivities(
             format!("give 1 to {MAX_SENSITIVITIES} names"),
         ));
     }
-    // One monomorphisation per width, exact up to 6 names (a fit's usual count); in the
-    // wider ones the unused columns stay zero and are not measured.
-    match k {
-        1 => run::<13>(top, s0, settings, sens, keep_going),
-        2 => run::<19>(top, s0, settings, sens, keep_going),
-        3 => run::<25>(top, s0, settings, sens, keep_going),
-        4 => run::<31>(top, s0, settings, sens, keep_going),
-        5 => run::<37>(top, s0, settings, sens, keep_going),
-        6 => run::<43>(top, s0, settings, sens, keep_going),
-        7..=9 => run::<61>(top, s0, settings, sens, keep_going),
-        _ => run::<{ 7 + 6 * MAX_SENSITIVITIES }>(top, s0, settings, sens, keep_going),
-    }
+    Ok(())
 }
 
-fn run<const N: usize>(
+/// Integrates a carrier of `$m` components with the sensitivities: one monomorphisation
+/// per width, exact up to 6 names (a fit's usual count); in the wider ones the unused columns
+/// stay zero and are not measured.
+macro_rules! run_widths {
+    ($m:literal, $base:expr, $y0:expr, $row:expr, $settings:expr, $sens:expr, $go:expr) => {
+        match $sens.params.len() {
+            1 => run::<_, _, $m, { $m + 6 }>($base, $y0, $row, $settings, $sens, $go),
+            2 => run::<_, _, $m, { $m + 12 }>($base, $y0, $row, $settings, $sens, $go),
+            3 => run::<_, _, $m, { $m + 18 }>($base, $y0, $row, $settings, $sens, $go),
+            4 => run::<_, _, $m, { $m + 24 }>($base, $y0, $row, $settings, $sens, $go),
+            5 => run::<_, _, $m, { $m + 30 }>($base, $y0, $row, $settings, $sens, $go),
+            6 => run::<_, _, $m, { $m + 36 }>($base, $y0, $row, $settings, $sens, $go),
+            7..=9 => run::<_, _, $m, { $m + 54 }>($base, $y0, $row, $settings, $sens, $go),
+            _ => run::<_, _, $m, { $m + 6 * MAX_SENSITIVITIES }>(
+                $base, $y0, $row, $settings, $sens, $go,
+            ),
+        }
+    };
+}
+
+/// Simulates `top` from `s0` with the sensitivities `sens` (method "dop853", no events):
+/// the rows are those of [`simulate::simulate`] with the same settings, bit for bit.
+pub fn simulate_with_sensitivities(
     top: &HeavyTop,
     s0: &RigidState,
     settings: &Settings,
     sens: &Sensitivities,
     keep_going: &mut dyn FnMut(f64) -> bool,
-) -> Result<SensitivitySolution> {
+) -> Result<SensitivitySolution<RigidState>> {
+    check(top, settings, sens)?;
+    if let Some(i) = sens
+        .params
+        .iter()
+        .position(|p| matches!(p, Param::Viscous | Param::Drag))
+    {
+        return Err(KreiselError::InvalidParameter {
+            name: "sensitivities".into(),
+            value: format!("{:?}", sens.names[i]),
+            allowed: "an undamped top has no damping coefficients".into(),
+        });
+    }
+    let y0 = pack(s0);
+    if top.axial() {
+        run_widths!(
+            7,
+            &QOmega::<true>(top),
+            y0,
+            &|_t: f64, y: &[f64; 7]| unpack(y),
+            settings,
+            sens,
+            keep_going
+        )
+    } else {
+        run_widths!(
+            7,
+            &QOmega::<false>(top),
+            y0,
+            &|_t: f64, y: &[f64; 7]| unpack(y),
+            settings,
+            sens,
+            keep_going
+        )
+    }
+}
+
+/// Simulates a damped top on a fixed pivot (viscous and drag torques, no dry friction) with
+/// the sensitivities `sens`, which may name "viscous" and "drag": the rows are those of
+/// [`simulate::simulate`] with the same settings, bit for bit.
+pub fn simulate_damped_with_sensitivities(
+    top: &DrivenTop,
+    s0: &RigidState,
+    settings: &Settings,
+    sens: &Sensitivities,
+    keep_going: &mut dyn FnMut(f64) -> bool,
+) -> Result<SensitivitySolution<DrivenRow>> {
+    if !matches!(top.pivot(), Pivot::Fixed) || top.damping().dry * top.damping().pivot_radius > 0.0
+    {
+        return Err(unavailable(false));
+    }
+    check(top, settings, sens)?;
+    let (sys, y0) = top.smooth_system(s0);
+    let row = |t: f64, y: &[f64; DIM]| DrivenRow {
+        t,
+        y: *y,
+        stuck: false,
+    };
+    run_widths!(9, &sys, y0, &row, settings, sens, keep_going)
+}
+
+fn run<B: Carrier<M>, R, const M: usize, const N: usize>(
+    base: &B,
+    y0m: [f64; M],
+    row: &dyn Fn(f64, &[f64; M]) -> R,
+    settings: &Settings,
+    sens: &Sensitivities,
+    keep_going: &mut dyn FnMut(f64) -> bool,
+) -> Result<SensitivitySolution<R>> {
     let k = sens.params.len();
-    debug_assert!(7 + 6 * k <= N);
+    debug_assert!(M + 6 * k <= N);
     let mut y0 = [0.0; N];
-    y0[..4].copy_from_slice(&s0.q.0);
-    y0[4..7].copy_from_slice(&s0.omega);
+    y0[..M].copy_from_slice(&y0m);
     for (j, p) in sens.params.iter().enumerate() {
         if let Param::Initial(v) = p {
-            y0[7 + 6 * j..13 + 6 * j].copy_from_slice(v);
+            y0[M + 6 * j..M + 6 + 6 * j].copy_from_slice(v);
         }
     }
     let integrator = settings.dop853();
@@ -468,32 +626,22 @@ fn run<const N: usize>(
                 return;
             }
             t.push(ti);
-            rows.push(RigidState {
-                q: Quat([y[0], y[1], y[2], y[3]]).normalized(),
-                omega: [y[4], y[5], y[6]],
-            });
+            let mut ym = [0.0; M];
+            ym.copy_from_slice(&y[..M]);
+            rows.push(row(ti, &ym));
             for j in 0..k {
                 let mut v = [0.0; 6];
-                v.copy_from_slice(&y[7 + 6 * j..13 + 6 * j]);
+                v.copy_from_slice(&y[M + 6 * j..M + 6 + 6 * j]);
                 out.push(v);
             }
         },
     );
-    let result = if top.axial() {
-        let sys = WithSensitivities::<true> {
-            top,
-            params: &sens.params,
-            control: sens.control,
-        };
-        integrator.integrate(&sys, 0.0, y0, t_end, &mut stream)
-    } else {
-        let sys = WithSensitivities::<false> {
-            top,
-            params: &sens.params,
-            control: sens.control,
-        };
-        integrator.integrate(&sys, 0.0, y0, t_end, &mut stream)
+    let sys = WithSensitivities::<B, M> {
+        base,
+        params: &sens.params,
+        control: sens.control,
     };
+    let result = integrator.integrate(&sys, 0.0, y0, t_end, &mut stream);
     let (t1, _, st) = result.map_err(|e| integrate_error(e, t_end))?;
     if full.get() {
         return Err(KreiselError::invalid(
@@ -705,7 +853,7 @@ mod tests {
         };
         let plain = simulate::simulate(&top, &state(), &st, &mut [], &mut |_| true).unwrap();
         let names: Vec<String> = ["I1", "com[1]", "omega[2]"].map(String::from).to_vec();
-        let sens = Sensitivities::new(&names, false, None).unwrap();
+        let sens = Sensitivities::new(&names, false, false, None).unwrap();
         let out = simulate_with_sensitivities(&top, &state(), &st, &sens, &mut |_| true).unwrap();
         assert_eq!(out.t, plain.t);
         assert_eq!(out.rows, plain.rows);
@@ -714,15 +862,92 @@ mod tests {
     }
 
     #[test]
+    fn sensitivity_of_a_damped_top_is_the_derivative_of_its_right_hand_side() {
+        // The damping torque's tangent and the coefficients' own terms, against central
+        // differences of the damped top's right-hand side (body rates moved, coefficients
+        // moved).
+        use super::super::driven::Damping;
+        let make = |c: f64, k: f64| {
+            let d = Damping::new(c, k, 0.0, 0.0).unwrap();
+            DrivenTop::new(general(), Pivot::Fixed, d).unwrap()
+        };
+        let (c, k) = (0.05, 0.02);
+        let top = make(c, k);
+        let s = state();
+        let dw = [0.7, 0.4, -1.1];
+        let params = [
+            Param::Initial([0.0, 0.0, 0.0, dw[0], dw[1], dw[2]]),
+            Param::Viscous,
+            Param::Drag,
+        ];
+        let (sys, y0) = top.smooth_system(&s);
+        let ext = WithSensitivities::<_, DIM> {
+            base: &sys,
+            params: &params,
+            control: false,
+        };
+        let mut y = [0.0; DIM + 18];
+        y[..DIM].copy_from_slice(&y0);
+        y[DIM + 3..DIM + 6].copy_from_slice(&dw);
+        let mut dy = [0.0; DIM + 18];
+        ext.rhs(0.0, &y, &mut dy);
+        let rates = |top: &DrivenTop, h: f64| {
+            let mut s = s;
+            for i in 0..3 {
+                s.omega[i] += h * dw[i];
+            }
+            let (sys, y) = top.smooth_system(&s);
+            let mut d = [0.0; DIM];
+            sys.rhs(0.0, &y, &mut d);
+            [d[4], d[5], d[6]]
+        };
+        let h = 1e-6;
+        let cases: [(usize, [f64; 3], [f64; 3]); 3] = [
+            (0, rates(&top, h), rates(&top, -h)),
+            (1, rates(&make(c + h, k), 0.0), rates(&make(c - h, k), 0.0)),
+            (2, rates(&make(c, k + h), 0.0), rates(&make(c, k - h), 0.0)),
+        ];
+        for (j, a, b) in cases {
+            for i in 0..3 {
+                let fd = (a[i] - b[i]) / (2.0 * h);
+                let got = dy[DIM + 6 * j + 3 + i];
+                assert!(rel(got, fd) < 1e-7, "{j} {i}: {got} {fd}");
+            }
+        }
+    }
+
+    #[test]
+    fn damped_sensitivities_leave_the_trajectory_bit_for_bit() {
+        use super::super::driven::Damping;
+        let d = Damping::new(0.05, 0.02, 0.0, 0.0).unwrap();
+        let top = DrivenTop::new(general(), Pivot::Fixed, d).unwrap();
+        let st = Settings {
+            t_end: 2.0,
+            ..Settings::default()
+        };
+        let plain = simulate::simulate(&top, &state(), &st, &mut [], &mut |_| true).unwrap();
+        let names: Vec<String> = ["viscous", "drag", "I3"].map(String::from).to_vec();
+        let sens = Sensitivities::new(&names, false, true, None).unwrap();
+        let out =
+            simulate_damped_with_sensitivities(&top, &state(), &st, &sens, &mut |_| true).unwrap();
+        assert_eq!(out.t, plain.t);
+        assert_eq!(out.rows, plain.rows);
+        assert_eq!(out.info.stats, plain.info.stats);
+        // and the undamped top refuses the coefficients
+        let e = Sensitivities::new(&names, false, false, None).unwrap_err();
+        assert!(e.to_string().contains("\"viscous\""), "{e}");
+    }
+
+    #[test]
     fn sensitivity_names_are_checked() {
         let n = |v: &[&str]| v.iter().map(|s| s.to_string()).collect::<Vec<_>>();
-        let e = Sensitivities::new(&n(&["I2"]), true, None).unwrap_err();
+        let e = Sensitivities::new(&n(&["I2"]), true, false, None).unwrap_err();
         assert!(e.to_string().contains("\"I2\""), "{e}");
         assert!(e.to_string().contains("I1, I3, m, l, g"), "{e}");
-        let e = Sensitivities::new(&n(&["m", "m"]), false, None).unwrap_err();
+        let e = Sensitivities::new(&n(&["m", "m"]), false, false, None).unwrap_err();
         assert!(e.to_string().contains("at most once"), "{e}");
-        let e = Sensitivities::new(&n(&["theta"]), false, None).unwrap_err();
+        let e = Sensitivities::new(&n(&["theta"]), false, false, None).unwrap_err();
         assert!(e.to_string().contains("orientation[0]"), "{e}");
-        assert!(Sensitivities::new(&n(&["theta"]), false, Some([0.5; 6])).is_ok());
+        assert!(Sensitivities::new(&n(&["theta"]), false, false, Some([0.5; 6])).is_ok());
     }
 }

@@ -101,6 +101,7 @@ bench: $(EXT)
 	$(PY) benchmarks/bench_exact.py
 	$(PY) benchmarks/bench_simulate.py
 	$(PY) benchmarks/bench_driven.py
+	$(PY) benchmarks/bench_sensitivities.py
 	$(PY) benchmarks/bench_mujoco.py
 	$(PY) benchmarks/bench_play.py
 	$(PY) benchmarks/bench_tippe_mujoco.py

@@ -674,6 +674,8 @@ fn run<B: Carrier<M>, R, const M: usize, const N: usize>(
 }
 
 #[cfg(test)]
+// component loops compare vectors index by index; the cases pair a parameter with its top
+#[allow(clippy::needless_range_loop, clippy::type_complexity)]
 mod tests {
     use super::*;
     use crate::rotation::quaternion_from_euler;

@@ -215,7 +215,10 @@ def fit(
         ``sensor_rotation`` for body rates given in a sensor frame. A vector name takes all
         its components; ``"com[2]"`` takes one.
     bounds : dict, optional
-        Name -> (low, high) in the name's units (arrays for vector names).
+        Name -> (low, high) in the name's units (arrays for vector names). Bounds change the
+        solver to its reflective variant, which can stop in a local minimum: prefer a good
+        start. (theta and -theta, with phi and psi turned by pi, are one orientation: a fit
+        may return either.)
     loss : str
         ``least_squares``' loss: ``"linear"`` (default: Gaussian errors) or a robust one
         (``"soft_l1"``, ``"huber"``, ``"cauchy"``, ``"arctan"``); the covariance is the

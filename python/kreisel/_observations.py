@@ -208,16 +208,17 @@ def _times(t) -> np.ndarray:
         raise ParameterError(f"t[{i}] = {arr[i]} is not allowed: every time must be finite")
     if arr[0] < 0:
         raise ParameterError(
-            f"t[0] = {arr[0]!r} is not allowed: times are >= 0 (the fitted state is the one at "
-            "t = 0; shift the recording's clock)"
+            f"t[0] = {float(arr[0])!r} is not allowed: times are >= 0 (the fitted state is the "
+            "one at t = 0; shift the recording's clock)"
         )
     d = np.diff(arr)
     if (d <= 0).any():
         i = int(np.argmax(d <= 0)) + 1
         what = "repeats" if d[i - 1] == 0 else "is earlier than"
         raise ParameterError(
-            f"t[{i}] = {arr[i]!r} is not allowed: it {what} t[{i - 1}] = {arr[i - 1]!r}; times "
-            "must be strictly increasing (sort the samples, drop duplicates)"
+            f"t[{i}] = {float(arr[i])!r} is not allowed: it {what} t[{i - 1}] = "
+            f"{float(arr[i - 1])!r}; times must be strictly increasing (sort the samples, drop "
+            "duplicates)"
         )
     return np.ascontiguousarray(arr)
 

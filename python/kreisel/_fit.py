@@ -188,6 +188,7 @@ def fit(
     loss: str = "linear",
     *,
     jacobian: str = "auto",
+    start: dict[str, Any] | None = None,
     rtol: float = 1e-10,
     atol: float = 1e-12,
     max_nfev: int | None = None,
@@ -227,6 +228,10 @@ def fit(
         ``"auto"`` (the core's forward sensitivities where :func:`simulate` offers them for
         this top, else finite differences), ``"sensitivities"`` or ``"finite-differences"``
         (central, relative step 1e-5).
+    start : dict, optional
+        Start values of free names, overriding those of ``top``, ``state`` and the
+        observations' ``rotation`` (e.g. ``{"sensor_rotation": earlier.values[...]}`` to go on
+        from a fit of a shorter window).
     rtol, atol : float
         Tolerances of the runs (DOP853).
     max_nfev : int, optional
@@ -267,8 +272,13 @@ def fit(
     rtol, atol = real("rtol", rtol), real("atol", atol)
     spec = fm.top_spec(top)
     s_sizes, s_vals, make_state, s_sens = fm.state_spec(top, state)
-    params = _params(free, spec, s_sizes, s_vals, obs_list)
+    rot0 = np.array(next((o.rotation for o in obs_list if o.frame == "sensor"), np.zeros(3)))
+    params = _params(free, spec, s_sizes, s_vals, obs_list, rot0)
+    if start:
+        _apply_start(start, params, spec, s_vals, rot0)
+        params = _params(free, spec, s_sizes, s_vals, obs_list, rot0)
     problem = _Problem(top, spec, make_state, s_vals, params, obs_list, rtol, atol)
+    problem.rot0 = rot0
     mode = _jacobian_mode(jacobian, top, spec, s_sens, params)
     problem.mode = mode
     problem.loss = loss
@@ -298,7 +308,39 @@ def _observation_list(observations) -> list[Observations]:
     return items
 
 
-def _params(free, spec: fm.TopSpec, s_sizes, s_vals, obs_list) -> list[fm.Param]:
+def _free_dict(what: str, mapping, params, value: str):
+    """The items of ``mapping`` (an argument named ``what``: free name -> ``value``), each
+    name checked against the free names."""
+    if not isinstance(mapping, dict):
+        raise ParameterError(f"{what} = {mapping!r} is not allowed: give a dict name -> {value}")
+    names = {p.key for p in params} | {p.name for p in params}
+    for name in mapping:
+        if name not in names:
+            raise ParameterError(
+                f"{what} names {name!r}, which is not allowed: it is not a free name ("
+                f"{', '.join(sorted(names))})"
+            )
+    return mapping.items()
+
+
+def _apply_start(start, params, spec, s_vals, rot0) -> None:
+    """Puts the start values of free names into the top's and state's values (in place)."""
+    for name, value in _free_dict("start", start, params, "value"):
+        key = name.partition("[")[0]
+        target = spec.kwargs if key in spec.kwargs else (s_vals if key in s_vals else None)
+        comps = [p for p in params if p.key == key and (p.name == name or name == key)]
+        for p in comps:
+            v = value if p.index is None or name != key else np.asarray(value, float)[p.index]
+            v = real(f"start[{name!r}]", v)
+            if target is None:
+                rot0[p.index] = v
+            elif p.index is None:
+                target[key] = v
+            else:
+                target[key][p.index] = v
+
+
+def _params(free, spec: fm.TopSpec, s_sizes, s_vals, obs_list, rotation) -> list[fm.Param]:
     if isinstance(free, str) or not isinstance(free, Sequence) or not free:
         raise ParameterError(
             f"free = {free!r} is not allowed: give a non-empty list of names, e.g. ['I3', 'theta']"
@@ -307,7 +349,6 @@ def _params(free, spec: fm.TopSpec, s_sizes, s_vals, obs_list) -> list[fm.Param]
              **{k: ("state", n) for k, n in s_sizes.items()}}  # fmt: skip
     if any(o.kind == "body_rates" and o.frame == "sensor" for o in obs_list):
         sizes["sensor_rotation"] = ("sensor", 3)
-    rotation = next((o.rotation for o in obs_list if o.frame == "sensor"), np.zeros(3))
     allowed = []
     for k, (_, n) in sizes.items():
         allowed.append(k)
@@ -365,15 +406,7 @@ def _bounds(bounds, params, x0):
     lo, hi = np.full(len(x0), -np.inf), np.full(len(x0), np.inf)
     if bounds is None:
         return lo, hi
-    if not isinstance(bounds, dict):
-        raise ParameterError(f"bounds = {bounds!r} is not allowed: give a dict name -> (low, high)")
-    names = {p.key for p in params} | {p.name for p in params}
-    for name, pair in bounds.items():
-        if name not in names:
-            raise ParameterError(
-                f"bounds names {name!r}, which is not allowed: it is not a free name ("
-                f"{', '.join(sorted(names))})"
-            )
+    for name, pair in _free_dict("bounds", bounds, params, "(low, high)"):
         try:
             a, b = pair
         except (TypeError, ValueError):
@@ -420,6 +453,7 @@ class _Problem:
         self.play = isinstance(top, PlayTop)
         self.mode = "finite-differences"
         self.loss = "linear"
+        self.rot0 = np.zeros(3)
         self._cache: dict[bytes, tuple] = {}
         self.nfev = 0
 
@@ -433,7 +467,7 @@ class _Problem:
         tkw = {k: (list(val) if isinstance(val, list) else val)
                for k, val in self.spec.kwargs.items()}  # fmt: skip
         skw = {k: (list(val) if isinstance(val, list) else val) for k, val in self.s_vals.items()}
-        rot = np.array(next((o.rotation for o in self.obs if o.frame == "sensor"), np.zeros(3)))
+        rot = self.rot0.copy()
         for p, val in zip(self.params, v):
             target = {"top": tkw, "state": skw}.get(p.group)
             if target is None:
@@ -696,9 +730,10 @@ class _Problem:
             fr = [Fraction(float(e)).limit_denominator(6) for e in exps]
             if any(abs(float(f) - e) > 1e-3 for f, e in zip(fr, exps)):
                 continue
-            label = _monomial(names, fr, self.top, {p.key for p in self.params})
+            label, g_power = _monomial(names, fr, self.top, {p.key for p in self.params})
             a = np.array([float(f) for f in fr])
             logv = float(np.sum(a * np.log(np.abs(values_x[idx]))))
+            logv += g_power * float(np.log(self.top.g)) if g_power else 0.0
             # variance of sum a_j log|v_j| = sum a_j dx_j / rel_j
             g = np.zeros(len(x))
             g[idx] = a / np.array(rel)
@@ -728,15 +763,18 @@ def _rref(A: np.ndarray) -> np.ndarray:
 
 
 def _monomial(names, exps, top, free_keys) -> str:
-    """``m g l / I1`` from names and exponents; for a top on a pivot, the product of m and
-    l (or com) shows the fixed g it comes with (the torque m g l)."""
+    """``m g l / I1`` from names and exponents, and the power of the fixed g put into it: for
+    a top on a pivot, a product of m and l (or com) is shown with the g it comes with (the
+    torque m g l), and its value includes g."""
     num = [(n, e) for n, e in zip(names, exps) if e > 0]
     den = [(n, -e) for n, e in zip(names, exps) if e < 0]
+    g_power = 0.0
     if "g" not in free_keys and hasattr(top, "g") and not isinstance(top, PlayTop):
         ns = [n for n, _ in num]
         if "m" in ns and ("l" in ns or any(n.startswith("com") for n in ns)):
             e = dict(num)["m"]
             num.insert(ns.index("m") + 1, ("g", e))
+            g_power = float(e)
 
     def part(items):
         out = []
@@ -750,7 +788,7 @@ def _monomial(names, exps, top, free_keys) -> str:
         return " ".join(out)
 
     if not num:
-        return f"1 / ({part(den)})"
-    return part(num) + (f" / {part(den)}" if den else "") if len(den) <= 1 else (
-        part(num) + f" / ({part(den)})"
-    )  # fmt: skip
+        return f"1 / ({part(den)})", g_power
+    if len(den) > 1:
+        return part(num) + f" / ({part(den)})", g_power
+    return part(num) + (f" / {part(den)}" if den else ""), g_power

@@ -181,6 +181,37 @@ class Observations:
         """The unit of ``values`` as stored (axis tips are stored in metres)."""
         return KINDS[self.kind][3]
 
+    def window(self, t_min: float = 0.0, t_max: float = np.inf) -> Observations:
+        """The samples with t_min <= t <= t_max (s), as new Observations of the same kind.
+
+        A fit of a long recording of a fast top has many local minima (its phases wind up);
+        fitting a short window first and then the whole gives a start inside the right one.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from kreisel import Observations
+        >>> obs = Observations(np.arange(10) * 0.1, np.zeros((10, 3)), "body_rates")
+        >>> len(obs.window(0.0, 0.45))
+        5
+        """
+        keep = (self.t >= real("t_min", t_min)) & (self.t <= float(t_max))
+        if not keep.any():
+            raise ParameterError(
+                f"t_min = {t_min!r}, t_max = {t_max!r} is not allowed: no sample lies between"
+            )
+        out = object.__new__(Observations)
+        for name in self.__slots__:
+            setattr(out, name, getattr(self, name))
+        out.t, out.values, out.sigma = self.t[keep], self.values[keep], self.sigma[keep]
+        for j, c in enumerate(out.columns):
+            if np.isnan(out.values[:, j]).all():
+                raise ParameterError(
+                    f"t_min = {t_min!r}, t_max = {t_max!r} is not allowed: column {c!r} has no "
+                    "sample between"
+                )
+        return out
+
     def __len__(self) -> int:
         return len(self.t)
 

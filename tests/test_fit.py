@@ -394,3 +394,34 @@ def test_unknown_free_names_are_refused_with_the_allowed_ones():
         kreisel.fit(top, state, obs, free=["I3"], bounds={"m": (0.0, 1.0)})
     with pytest.raises(kreisel.ParameterError, match=r"observations = "):
         kreisel.fit(top, state, [], free=["I3"])
+
+
+def test_a_fixed_gravity_enters_the_reported_torque_combination():
+    rng = np.random.default_rng(8)
+    t = np.linspace(0.0, 1.0, 301)
+    p = LAGRANGE
+    _, ang = euler_reference((p["I1"], p["I1"], p["I3"]), p["m"], (0.0, 0.0, p["l"]), p["g"],
+                             LAGRANGE_STATE, t)  # fmt: skip
+    obs = kreisel.Observations(t, ang + rng.normal(0.0, 1e-3, ang.shape), "euler_angles",
+                               sigma=1e-3)  # fmt: skip
+    top = kreisel.LagrangeTop(I1=1.8e-4, I3=2.0e-5, m=0.11, l=0.04, g=9.81)
+    # I3 is known, so the angles fix I1 (through I3 / I1) and with it the torque m g l
+    with pytest.warns(kreisel.FitWarning, match="cannot tell m, l apart.*identifiable are m g l"):
+        res = kreisel.fit(top, top.state(theta=0.6, psi_dot=300.0), obs, free=["m", "l", "I1"],
+                          start={"m": 0.1})  # fmt: skip
+    mgl = p["m"] * p["g"] * p["l"]  # 0.03924 N m, g = 9.81 included
+    assert abs(res.values["m g l"] - mgl) < 4 * res.errors["m g l"]
+    assert abs(res.values["I1"] - p["I1"]) < 4 * res.errors["I1"]
+
+
+def test_start_and_window_are_checked_by_name():
+    obs = _gyro_recording(np.random.default_rng(1))
+    top, state = _heavy_guess()
+    with pytest.raises(kreisel.ParameterError, match=r"start names 'm'.*com\[2\]"):
+        kreisel.fit(top, state, obs, free=HEAVY_FREE, start={"m": 0.3})
+    with pytest.raises(kreisel.ParameterError, match="no sample lies between"):
+        obs.window(10.0, 11.0)
+    short = obs.window(0.0, 1.0)
+    assert len(short) == 101 and short.sigma_given
+    res = kreisel.fit(top, state, short, free=HEAVY_FREE, start={"I3": 0.0061})
+    assert res.values["I3"] == pytest.approx(0.006, abs=4 * res.errors["I3"])

@@ -451,6 +451,11 @@ class _Problem:
         self.rows = [np.searchsorted(self.times, o.t) for o in obs_list]
         self.masks = [~np.isnan(o.values) for o in obs_list]
         self.play = isinstance(top, PlayTop)
+        need = {
+            "body_rates": ["omega"],
+            "axis_tip": ["theta", "phi"] + (["com"] if self.play else []),
+        }
+        self.columns = sorted({c for o in obs_list for c in need.get(o.kind, o.columns)})
         self.mode = "finite-differences"
         self.loss = "linear"
         self.rot0 = np.zeros(3)
@@ -496,9 +501,8 @@ class _Problem:
             raise _Failed(str(e)) from None
         if len(traj.t) != len(self.times):
             raise _Failed(f"the run stopped at t = {traj.t[-1]:g} s ({traj.status})")
-        cols = {c: np.asarray(traj[c]) for c in ("omega", "theta", "phi", "psi")}
-        if self.play:
-            cols["com"] = np.asarray(traj.com)
+        # only the columns the observations need: the Euler angles are derived on request
+        cols = {c: np.asarray(traj[c]) for c in self.columns}
         sens = traj.sensitivities if with_sens else None  # type: ignore[attr-defined]
         out = (traj, cols, sens, rot, top, state)
         self._cache = {key: out}  # one point at a time

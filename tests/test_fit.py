@@ -176,14 +176,20 @@ def test_a_phone_fixed_askew_on_the_top_gives_its_rotation():
     assert res.values["I3"] == pytest.approx(0.006, abs=4 * res.errors["I3"])
 
 
-def test_mass_gravity_and_lever_from_angles_alone_are_reported_as_not_identifiable():
-    rng = np.random.default_rng(5)
+def _lagrange_angles(rng, columns, sigma=1e-3):
+    """Euler angles of the toy Lagrange top over 1 s at 300 samples/s, with noise."""
     t = np.linspace(0.0, 1.0, 301)
     p = LAGRANGE
     _, ang = euler_reference((p["I1"], p["I1"], p["I3"]), p["m"], (0.0, 0.0, p["l"]), p["g"],
                              LAGRANGE_STATE, t)  # fmt: skip
-    obs = kreisel.Observations(t, ang[:, :2] + rng.normal(0.0, 1e-3, (301, 2)), "euler_angles",
-                               columns=["theta", "phi"], sigma=1e-3)  # fmt: skip
+    cols = [("theta", "phi", "psi").index(c) for c in columns]
+    noisy = ang[:, cols] + rng.normal(0.0, sigma, (len(t), len(cols)))
+    return kreisel.Observations(t, noisy, "euler_angles", columns=columns, sigma=sigma)
+
+
+def test_mass_gravity_and_lever_from_angles_alone_are_reported_as_not_identifiable():
+    p = LAGRANGE
+    obs = _lagrange_angles(np.random.default_rng(5), ["theta", "phi"])
     top = kreisel.LagrangeTop(I1=1.8e-4, I3=2.1e-5, m=0.11, l=0.04, g=9.81)
     with pytest.warns(kreisel.FitWarning) as record:
         res = kreisel.fit(top, top.state(theta=0.6, psi_dot=300.0), obs,
@@ -397,13 +403,8 @@ def test_unknown_free_names_are_refused_with_the_allowed_ones():
 
 
 def test_a_fixed_gravity_enters_the_reported_torque_combination():
-    rng = np.random.default_rng(8)
-    t = np.linspace(0.0, 1.0, 301)
     p = LAGRANGE
-    _, ang = euler_reference((p["I1"], p["I1"], p["I3"]), p["m"], (0.0, 0.0, p["l"]), p["g"],
-                             LAGRANGE_STATE, t)  # fmt: skip
-    obs = kreisel.Observations(t, ang + rng.normal(0.0, 1e-3, ang.shape), "euler_angles",
-                               sigma=1e-3)  # fmt: skip
+    obs = _lagrange_angles(np.random.default_rng(8), ["theta", "phi", "psi"])
     top = kreisel.LagrangeTop(I1=1.8e-4, I3=2.0e-5, m=0.11, l=0.04, g=9.81)
     # I3 is known, so the angles fix I1 (through I3 / I1) and with it the torque m g l
     with pytest.warns(kreisel.FitWarning, match="cannot tell m, l apart.*identifiable are m g l"):

@@ -364,7 +364,9 @@ def _params(free, spec: fm.TopSpec, s_sizes, s_vals, obs_list, rotation) -> list
             )
         key, _, rest = name.partition("[")
         group, n = sizes[key]
-        indices = [None] if n is None else ([int(rest[:-1])] if rest else list(range(n)))
+        indices: list[int | None] = [None]
+        if n is not None:
+            indices = [int(rest[:-1])] if rest else list(range(n))
         for i in indices:
             label = key if i is None else f"{key}[{i}]"
             if any(p.name == label for p in out):
@@ -448,7 +450,7 @@ class _Problem:
         self.top, self.spec, self.make_state, self.s_vals = top, spec, make_state, s_vals
         self.params, self.obs, self.rtol, self.atol = params, obs_list, rtol, atol
         self.times = np.unique(np.concatenate([o.t for o in obs_list]))
-        self.rows = [np.searchsorted(self.times, o.t) for o in obs_list]
+        self.rows = [np.asarray(np.searchsorted(self.times, o.t)) for o in obs_list]
         self.masks = [~np.isnan(o.values) for o in obs_list]
         self.play = isinstance(top, PlayTop)
         need = {
@@ -459,6 +461,7 @@ class _Problem:
         self.mode = "finite-differences"
         self.loss = "linear"
         self.rot0 = np.zeros(3)
+        self._size: int | None = None
         self._cache: dict[bytes, tuple] = {}
         self.nfev = 0
 
@@ -503,7 +506,7 @@ class _Problem:
             raise _Failed(f"the run stopped at t = {traj.t[-1]:g} s ({traj.status})")
         # only the columns the observations need: the Euler angles are derived on request
         cols = {c: np.asarray(traj[c]) for c in self.columns}
-        sens = traj.sensitivities if with_sens else None  # type: ignore[attr-defined]
+        sens = traj.sensitivities if with_sens else None
         out = (traj, cols, sens, rot, top, state)
         self._cache = {key: out}  # one point at a time
         self.nfev += 1
@@ -520,7 +523,7 @@ class _Problem:
         try:
             _, cols, _, rot, _, _ = self.run(x, self.mode == "sensitivities")
         except _Failed:
-            if not hasattr(self, "_size"):
+            if self._size is None:
                 raise
             # a point the model refuses costs more than any it accepts
             return np.full(self._size, 1e10)
@@ -576,7 +579,7 @@ class _Problem:
                 J[:, j] = self._rotation_column(x, j, cols, rot)
                 continue
             h = self.step(x, j)
-            sides = []
+            sides: list[np.ndarray | None] = []
             for sign in (1.0, -1.0):
                 xs = x.copy()
                 xs[j] += sign * h
@@ -646,10 +649,8 @@ class _Problem:
 
         combos: dict[str, tuple[float, float]] = {}
         if null.any():
-            seen = np.zeros(n, bool)
             null_dirs = (Vt[null].T / norms[:, None]).T  # rows: null directions in x
             involved = np.abs(null_dirs).max(axis=0) > 1e-3 * np.abs(null_dirs).max()
-            seen |= involved
             for j in np.flatnonzero(involved):
                 err[j] = np.inf
                 cov[j, :] = cov[:, j] = np.nan
@@ -766,7 +767,7 @@ def _rref(A: np.ndarray) -> np.ndarray:
     return A[:r]
 
 
-def _monomial(names, exps, top, free_keys) -> str:
+def _monomial(names, exps, top, free_keys) -> tuple[str, float]:
     """``m g l / I1`` from names and exponents, and the power of the fixed g put into it: for
     a top on a pivot, a product of m and l (or com) is shown with the g it comes with (the
     torque m g l), and its value includes g."""

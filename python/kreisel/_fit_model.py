@@ -72,9 +72,10 @@ def top_spec(top) -> TopSpec:
             f"top = {top!r} is not allowed: fit a HeavyTop, LagrangeTop or PlayTop"
         )
 
-    def make(p, cls=cls):
+    def plain(p, cls=cls):
         return cls(**p)
 
+    make: Callable[[dict[str, Any]], Any] = plain
     if top.driven:
         sens = frozenset()
         damping = top.damping
@@ -84,7 +85,7 @@ def top_spec(top) -> TopSpec:
                 kw[k] = getattr(damping, k)
                 sizes[k] = None
 
-        def make(p, base=base, damping=damping, pivot=top.pivot):
+        def driven(p, base=base, damping=damping, pivot=top.pivot):
             p = dict(p)
             d = None
             if damping is not None:
@@ -92,6 +93,8 @@ def top_spec(top) -> TopSpec:
                     damping, **{k: p.pop(k) for k in ("viscous", "drag", "dry")}
                 )
             return base(**p, pivot=pivot, damping=d)
+
+        make = driven
 
     return TopSpec(sizes, kw, make, sens)
 
@@ -205,7 +208,7 @@ def predict_derivative(sens: dict[str, np.ndarray], cols, obs, idx, rot) -> np.n
         return np.stack([np.asarray(sens[c])[idx] for c in obs.columns], axis=1)
     th, ph = cols["theta"][idx], cols["phi"][idx]
     dth, dph = np.asarray(sens["theta"])[idx], np.asarray(sens["phi"])[idx]
-    d = float(obs.axis_point)  # type: ignore[arg-type]
+    d = float(obs.axis_point)
     dx = d * (np.cos(th) * np.sin(ph) * dth + np.sin(th) * np.cos(ph) * dph)
     dy = d * (-np.cos(th) * np.cos(ph) * dth + np.sin(th) * np.sin(ph) * dph)
     return np.stack([dx, dy], axis=1)

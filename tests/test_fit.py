@@ -467,11 +467,18 @@ def tippe_reference(mu, theta0, psi_dot, t):
     return np.arccos(np.clip(sol.y[2], -1.0, 1.0))
 
 
-def test_a_tippe_top_filmed_from_the_side_gives_its_friction():
+@functools.cache
+def _tippe_side_view():
     t = np.arange(200) / 200.0
+    noisy = tippe_reference(1.0, np.pi - 0.1, 150.0, t) + np.random.default_rng(6).normal(
+        0, 0.01, 200
+    )
+    return kreisel.Observations(t, noisy, "euler_angles", columns=["theta"], sigma=0.01)
+
+
+def test_a_tippe_top_filmed_from_the_side_gives_its_friction():
     theta0 = np.pi - 0.1
-    noisy = tippe_reference(1.0, theta0, 150.0, t) + np.random.default_rng(6).normal(0, 0.01, 200)
-    obs = kreisel.Observations(t, noisy, "euler_angles", columns=["theta"], sigma=0.01)
+    obs = _tippe_side_view()
     params = {k: TIPPE[k] for k in ("m", "A", "C", "s", "rho", "g")}
     guess = kreisel.PlayTop(**params, friction=kreisel.Viscous(mu=0.6))
     res = kreisel.fit(guess, kreisel.EulerState(theta=theta0 + 0.02, psi_dot=150.0), obs,
@@ -481,3 +488,13 @@ def test_a_tippe_top_filmed_from_the_side_gives_its_friction():
     assert res.values["mu"] == pytest.approx(1.0, abs=4 * res.errors["mu"])
     assert res.errors["mu"] < 0.05  # 2 % from one second of video
     assert isinstance(res.top, kreisel.PlayTop) and res.top.friction.mu == res.values["mu"]
+
+
+def test_a_tippe_top_fitted_for_its_tip_radius_starts_on_the_floor_of_each_trial():
+    # the state's height follows the trial top's rho: a fit of rho would be biased otherwise
+    params = {k: TIPPE[k] for k in ("m", "A", "C", "s", "g")}
+    guess = kreisel.PlayTop(**params, rho=0.021, friction=kreisel.Viscous(mu=1.0))
+    res = kreisel.fit(guess, kreisel.EulerState(theta=np.pi - 0.1, psi_dot=150.0),
+                      _tippe_side_view(), free=["rho"])  # fmt: skip
+    assert res.values["rho"] == pytest.approx(0.02, abs=4 * res.errors["rho"])
+    assert res.state.com[2] == pytest.approx(res.values["rho"] + TIPPE["s"] * np.cos(np.pi - 0.1))

@@ -485,7 +485,8 @@ class _Problem:
             else:
                 target[p.key][p.index] = float(val)
         try:
-            return self.spec.make(tkw), self.make_state(skw), rot
+            trial = self.spec.make(tkw)
+            return trial, self.make_state(skw, trial), rot
         except KreiselError as e:
             raise _Failed(str(e)) from None
 

@@ -122,21 +122,22 @@ def _play_spec(top: PlayTop) -> TopSpec:
 
 
 def state_spec(top, state) -> tuple[dict[str, int | None], dict[str, Any], Callable, frozenset]:
-    """The free names of ``state``: sizes, values, a function making a state, and the keys the
-    core's sensitivities know."""
+    """The free names of ``state``: sizes, values, a function making a state from values and
+    the trial top, and the keys the core's sensitivities know."""
     if isinstance(state, EulerState):
         vals: dict[str, Any] = {f: getattr(state, f) for f in EULER_FIELDS}
 
-        def make(v):
+        def make(v, trial):
             s = EulerState(**v)
-            return top.state(*s.as_tuple()) if isinstance(top, PlayTop) else s
+            # on a floor the state's height follows the trial top's geometry (s, rho)
+            return trial.state(*s.as_tuple()) if isinstance(trial, PlayTop) else s
 
         sens = frozenset() if isinstance(top, PlayTop) else frozenset(EULER_FIELDS)
         return dict.fromkeys(EULER_FIELDS), vals, make, sens
     if isinstance(state, RigidState):
         q0 = np.asarray(state.quaternion, dtype=float)
 
-        def make_rigid(v):
+        def make_rigid(v, trial):
             return RigidState(quat_mul(q0, quat_exp(np.asarray(v["orientation"]))),
                               np.asarray(v["omega"], dtype=float))  # fmt: skip
 
@@ -144,7 +145,7 @@ def state_spec(top, state) -> tuple[dict[str, int | None], dict[str, Any], Calla
         return dict(orientation=3, omega=3), vals, make_rigid, frozenset(vals)
     if isinstance(state, PlayState):
 
-        def make_play(v):
+        def make_play(v, trial):
             return dataclasses.replace(state, omega=np.asarray(v["omega"], dtype=float))
 
         return dict(omega=3), {"omega": list(state.omega)}, make_play, frozenset()

@@ -52,11 +52,12 @@ def initial_state():
     return q, omega
 
 
-def make_rhs():
+def make_rhs(params=None):
     """dq/dt = 1/2 q (x) (0, omega);  I domega/dt = (I omega) x omega + m g l (Gamma x e3),
     Gamma = R(q)^T e_z the upward vertical in the body."""
-    i1, i3 = PARAMS["I1"], PARAMS["I3"]
-    mgl = PARAMS["m"] * PARAMS["g"] * PARAMS["l"]
+    p = PARAMS if params is None else params  # another top's (bench_fit.py)
+    i1, i3 = p["I1"], p["I3"]
+    mgl = p["m"] * p["g"] * p["l"]
     k12 = (i1 - i3) / i1  # Euler: I1 w1dot = (I2 - I3) w2 w3 + torque, with I2 = I1
 
     def rhs(_t, y):

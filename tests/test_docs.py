@@ -14,7 +14,7 @@ import pytest
 import kreisel
 
 API = pathlib.Path(__file__).resolve().parents[1] / "docs" / "api"
-SUBMODULES = ("events", "plot", "animate", "special", "shapes", "quantum", "bodies", "pivots")
+SUBMODULES = ("events", "plot", "animate", "special", "shapes", "quantum", "bodies", "pivots", "io")
 
 
 def _api_source() -> str:

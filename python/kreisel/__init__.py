@@ -4,19 +4,23 @@
 - :class:`HeavyTop`: any rigid body on a pivot (Euler, Lagrange, Kovalevskaya, chaotic).
 - :class:`PlayTop`: a top with a spherical tip on a plane, with friction (tippe tops).
 - :func:`simulate`, :func:`simulate_many`: structure-preserving and adaptive integration.
+- :func:`fit`, :class:`Observations`, :mod:`io`: a top's parameters and state from a
+  recording (phyphox, Tracker), with honest errors.
 - :mod:`pivots`, :class:`PivotDamping`: a moving pivot and friction at it; :func:`poincare`:
   stroboscopic sections.
 
 SI units and radians throughout; arrays are numpy arrays.
 """
 
-from . import bodies, events, pivots, shapes
+from . import bodies, events, io, pivots, shapes
 from ._atlas import Classification, Prediction, RegularPrecession, StationaryMotion
 from ._batch import BatchSummary, HeavyBatchSummary, simulate_many
 from ._core import __version__
-from ._errors import KreiselError, NumericalError, ParameterError
+from ._errors import FitWarning, KreiselError, NumericalError, ParameterError
+from ._fit import FitResult, fit
 from ._heavy import HeavyTop, RigidState
 from ._lagrange import LagrangeTop
+from ._observations import Observations
 from ._play import Coulomb, CoulombContensou, Frictionless, PlayState, PlayTop, Viscous
 from ._poincare import poincare
 from ._simulate import Event, EventRecord, MethodInfo, methods, simulate
@@ -33,6 +37,8 @@ __all__ = [
     "Event",
     "EventRecord",
     "EulerState",
+    "FitResult",
+    "FitWarning",
     "Frictionless",
     "HeavyBatchSummary",
     "HeavyTop",
@@ -42,6 +48,7 @@ __all__ = [
     "MethodInfo",
     "NumericalError",
     "NutationAnalysis",
+    "Observations",
     "ParameterError",
     "PivotDamping",
     "PlayState",
@@ -56,6 +63,8 @@ __all__ = [
     "__version__",
     "bodies",
     "events",
+    "fit",
+    "io",
     "methods",
     "pivots",
     "poincare",

@@ -47,3 +47,15 @@ class NumericalError(KreiselError, RuntimeError):
     >>> issubclass(NumericalError, KreiselError), issubclass(NumericalError, RuntimeError)
     (True, True)
     """
+
+
+class FitWarning(UserWarning):
+    """A fit's result needs care: the data cannot tell some free names apart (the warning
+    names the combinations that are identifiable), or the solver did not converge.
+
+    Examples
+    --------
+    >>> from kreisel import FitWarning
+    >>> issubclass(FitWarning, UserWarning)
+    True
+    """

@@ -485,9 +485,7 @@ class PlayTop:
         return self._invariants(state)[1]
 
     def _invariants(self, state):
-        if self._native.classic:
-            return self._native.invariants(self._check(state))
-        return self._native.invariants_parts(self._check(state))
+        return self._native.invariants(self._check(state))
 
     # Stationary motions, stability and the atlas: thin wrappers of kreisel._atlas.
 

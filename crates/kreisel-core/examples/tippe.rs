@@ -45,13 +45,16 @@ fn main() {
         let (a, b, cc) = top.energy_parts(yy);
         println!(
             "{t:5.2} u={:+.5} J rel={:+.2e} E+D={:.12e} mode={:?} N={:.4e}",
-            top.kin(yy).u,
+            top.kin(yy).e3[2],
             (top.jellett(yy) - j0) / j0,
             a + b + cc + yy[13],
             md,
             {
                 let mut dy = [0.0; DIM];
-                top.dynamics(*md, yy, row.dir(), &mut dy).n
+                top.dynamics(&row.contacts, yy, &mut dy)
+                    .n
+                    .iter()
+                    .sum::<f64>()
             }
         );
     }

@@ -168,20 +168,6 @@ impl PyPlayTop {
             .slip_coefficient(&pack(&s), [dir[0], dir[1], 0.0])
     }
 
-    /// Whether the top runs on the one-sphere equations.
-    #[getter]
-    fn classic(&self) -> bool {
-        self.inner.is_classic()
-    }
-
-    /// Jellett's integral about the first part's lowest point and the energy of a packed
-    /// state, for any top.
-    fn invariants_parts(&self, s: Packed) -> (f64, f64) {
-        let y = pack(&s);
-        let (a, b, c) = self.inner.energy_parts(&y);
-        (self.inner.multi_jellett(&y), a + b + c)
-    }
-
     #[getter]
     fn alpha(&self) -> f64 {
         self.inner.alpha()
@@ -229,7 +215,8 @@ impl PyPlayTop {
         Ok(unpack(&y))
     }
 
-    /// (Jellett's J, energy) of a packed state.
+    /// Jellett's integral about the first part's lowest point and the energy of a packed
+    /// state.
     fn invariants(&self, s: Packed) -> (f64, f64) {
         let y = pack(&s);
         let (a, b, c) = self.inner.energy_parts(&y);

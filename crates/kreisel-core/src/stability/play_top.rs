@@ -615,7 +615,10 @@ pub struct FrictionlessNutation {
 /// `F(u0) = udot0^2 (1 + k (1 - u0^2))` is known without cancellation.
 pub fn frictionless_nutation(top: &PlayTop, y: &[f64; DIM]) -> Result<FrictionlessNutation> {
     let (m, a, c, s, g) = (top.m, top.a, top.c, top.s, top.g);
-    let gap = top.height(y);
+    let gap = {
+        let k = top.kin(y);
+        top.parts.shape[0].gap(k.zg, k.e3)
+    };
     if gap.abs() > 1e-9 * top.rho {
         return Err(KreiselError::invalid(
             "state",

@@ -314,7 +314,7 @@ impl Dop853 {
         O: Observer<N> + ?Sized,
     {
         #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx") {
+        if avx() {
             // SAFETY: the CPU supports the feature the function is compiled for.
             return unsafe { self.integrate_avx(sys, t0, y0, t_end, obs) };
         }
@@ -651,4 +651,15 @@ fn scaled(e: f64, sk: f64) -> f64 {
     } else {
         f64::INFINITY
     }
+}
+
+/// Whether the AVX build of the integrator runs: where the CPU has AVX, unless the
+/// environment variable `KREISEL_NO_AVX` is set when it is first asked (instruction counts
+/// under valgrind, whose decoder lacks some of the AVX instructions the compiler emits).
+#[cfg(target_arch = "x86_64")]
+fn avx() -> bool {
+    static AVX: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
+    *AVX.get_or_init(|| {
+        std::arch::is_x86_feature_detected!("avx") && std::env::var_os("KREISEL_NO_AVX").is_none()
+    })
 }

@@ -1,19 +1,14 @@
-//! The play top's driver behind [`crate::simulate::simulate`]: a hybrid of smooth phases
-//! (slip, roll, flight), each integrated with DOP853 and ended by located events, joined by
-//! the switches of [`super::contact`]; its diagnostics columns and the running summary a
-//! batch keeps.
+//! The model behind [`crate::simulate::simulate`] for tops on a floor (the run is
+//! [`super::driver`]'s): its rows, diagnostics columns and the running summary a batch
+//! keeps.
 
-use super::contact::Phase;
-use super::hybrid::{drive, Classic, Multi};
-use super::multi::Contacts;
-use super::shapes::MAX_PARTS;
-use super::{law, Mode, PlayTop, RhsConsts, DIM};
+use super::driver::{drive, Rules};
+use super::parts::MAX_PARTS;
+use super::{Contacts, Mode, PlayTop, DIM};
 use crate::error::{KreiselError, Result};
-use crate::integrate::{Dop853, IntegrateError, Observer, OdeSystem};
 use crate::simulate::{
     relative, Accumulate, EventKind, MethodInfo, Model, RunInfo, Settings, Sink, UserFn,
 };
-use std::cell::Cell;
 
 /// One output row of a play-top run: the state, and every part's contact mode and slip
 /// direction in force at zero slip speed (a one-sphere top's in part 0).
@@ -26,15 +21,6 @@ pub struct PlayRow {
 }
 
 impl PlayRow {
-    /// The row of a one-sphere top.
-    #[inline(always)]
-    pub fn classic(y: [f64; DIM], mode: Mode, dir: [f64; 3]) -> PlayRow {
-        let mut contacts = Contacts::NONE;
-        contacts.mode[0] = mode;
-        contacts.dir[0] = [dir[0], dir[1]];
-        PlayRow { y, contacts }
-    }
-
     /// The one mode of the whole top ([`Contacts::overall`]): a one-sphere top's own.
     #[inline(always)]
     pub fn mode(&self) -> Mode {
@@ -90,11 +76,7 @@ impl Model for PlayTop {
         keep_going: &mut dyn FnMut(f64) -> bool,
         sink: Sink<'_, PlayRow>,
     ) -> Result<RunInfo> {
-        if self.is_classic() {
-            drive(&Classic(self), self, y0, settings, keep_going, sink)
-        } else {
-            drive(&Multi::new(self), self, y0, settings, keep_going, sink)
-        }
+        drive(&Rules::new(self), self, y0, settings, keep_going, sink)
     }
 
     fn summary<'a>(&'a self, _y0: &[f64; DIM], settings: &Settings) -> PlayAcc<'a> {
@@ -119,103 +101,6 @@ impl Model for PlayTop {
 
     fn columns(&self, rows: &[PlayRow]) -> PlayColumns {
         PlayTop::columns(self, rows)
-    }
-}
-
-/// The equations of the contact mode with code `M` ([`Mode::code`]), with the resistance
-/// torques when `RES` ([`PlayTop::has_resistance`]) and the friction law `LAW` ([`law`]):
-/// constants, so that each variant's right-hand side is compiled without the dispatch on
-/// them.
-struct ModeSystem<'a, const M: u8, const RES: bool, const LAW: u8> {
-    top: &'a PlayTop,
-    consts: RhsConsts,
-    dir: [f64; 3],
-    last: &'a Cell<LastRhs>,
-}
-
-/// The last right-hand side evaluated: its time, orientation and normal force. The
-/// integrator evaluates the right-hand side at the (projected) end of every accepted step
-/// just before the events are checked there, so the lift-off event takes that normal force
-/// instead of computing it again. The key is the time and the orientation (the state's
-/// other components are not kept: storing the whole state costs more than it saves); a
-/// stage or root-finding state at the same time has another orientation (a step's last
-/// stage is not projected), so only the step's end state reuses it.
-#[derive(Clone, Copy)]
-pub(crate) struct LastRhs {
-    pub(crate) t: f64,
-    pub(crate) q: [f64; 4],
-    pub(crate) n: f64,
-}
-
-impl LastRhs {
-    pub(crate) const NONE: LastRhs = LastRhs {
-        t: f64::NAN,
-        q: [f64::NAN; 4],
-        n: f64::NAN,
-    };
-}
-
-impl<const M: u8, const RES: bool, const LAW: u8> OdeSystem<DIM> for ModeSystem<'_, M, RES, LAW> {
-    #[inline(always)]
-    fn rhs(&self, t: f64, y: &[f64; DIM], dy: &mut [f64; DIM]) {
-        let c =
-            self.top
-                .dynamics_with::<RES, LAW>(&self.consts, Mode::from_code(M), y, self.dir, dy);
-        self.last.set(LastRhs {
-            t,
-            q: [y[0], y[1], y[2], y[3]],
-            n: c.n,
-        });
-    }
-    fn project(&self, y: &mut [f64; DIM]) {
-        self.top.project(Mode::from_code(M), y);
-    }
-}
-
-/// Integrates one phase in `mode` (see [`ModeSystem`]); every right-hand side evaluated is
-/// left in `last`.
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn integrate_phase<O: Observer<DIM>>(
-    integrator: &Dop853,
-    top: &PlayTop,
-    phase: &Phase,
-    last: &Cell<LastRhs>,
-    t: f64,
-    y: [f64; DIM],
-    t_end: f64,
-    obs: &mut O,
-) -> std::result::Result<(f64, [f64; DIM], crate::integrate::Stats), IntegrateError> {
-    const SLIP: u8 = Mode::Slip.code();
-    const ROLL: u8 = Mode::Roll.code();
-    const FLIGHT: u8 = Mode::Flight.code();
-    let consts = top.rhs_consts();
-    let (mode, dir) = (phase.mode, phase.dir);
-    macro_rules! run {
-        ($m:expr, $res:expr, $law:expr) => {
-            integrator.integrate(
-                &ModeSystem::<{ $m }, { $res }, { $law }> {
-                    top,
-                    consts,
-                    dir,
-                    last,
-                },
-                t,
-                y,
-                t_end,
-                obs,
-            )
-        };
-    }
-    // The friction law matters in slip only; tops with resistance torques look it up.
-    match (mode, top.has_resistance(), top.friction.law()) {
-        (Mode::Slip, false, law::VISCOUS) => run!(SLIP, false, law::VISCOUS),
-        (Mode::Slip, false, law::COULOMB) => run!(SLIP, false, law::COULOMB),
-        (Mode::Slip, false, _) => run!(SLIP, false, law::ANY),
-        (Mode::Slip, true, _) => run!(SLIP, true, law::ANY),
-        (Mode::Roll, false, _) => run!(ROLL, false, law::ANY),
-        (Mode::Roll, true, _) => run!(ROLL, true, law::ANY),
-        (Mode::Flight, false, _) => run!(FLIGHT, false, law::ANY),
-        (Mode::Flight, true, _) => run!(FLIGHT, true, law::ANY),
     }
 }
 
@@ -275,11 +160,7 @@ impl PlayTop {
 
     /// The diagnostics of the rows of a play-top run.
     pub fn columns(&self, rows: &[PlayRow]) -> PlayColumns {
-        if self.has_resistance() {
-            columns_with::<true>(self, rows)
-        } else {
-            columns_with::<false>(self, rows)
-        }
+        columns_of(self, rows)
     }
 }
 
@@ -299,18 +180,17 @@ struct Row {
     part_slip_velocity: [[f64; 2]; MAX_PARTS],
 }
 
-/// The diagnostics of a row of a top with several parts (or Coulomb-Contensou friction):
-/// the contact point, slip velocity and Jellett's integral are the first touching part's
+/// The diagnostics of a row: the contact point, slip velocity and Jellett's integral are the first touching part's
 /// (or the lowest part's in flight), the normal force is the parts' sum.
-fn multi_row(top: &PlayTop, r: &PlayRow, angles: &mut crate::simulate::Unwrapped) -> Row {
+fn row_of(top: &PlayTop, r: &PlayRow, angles: &mut crate::simulate::Unwrapped) -> Row {
     use crate::rotation::euler_from_matrix;
     let y = &r.y;
     let n = top.parts.n;
-    let k = top.mkin(y);
+    let k = top.kin(y);
     let (phi, theta, psi) = euler_from_matrix(k.r);
     let (phi, psi) = angles.next(phi, psi);
     let mut dy = [0.0; DIM];
-    let f = top.multi_dynamics(&r.contacts, y, &mut dy);
+    let f = top.dynamics(&r.contacts, y, &mut dy);
     let (a, b, p) = top.energy_parts(y);
     let mut out = Row {
         u: k.e3[2],
@@ -344,14 +224,12 @@ fn multi_row(top: &PlayTop, r: &PlayRow, angles: &mut crate::simulate::Unwrapped
             out.slip_speed = (vp[0] * vp[0] + vp[1] * vp[1]).sqrt();
         }
     }
-    out.jellett = top.multi_jellett(y);
+    out.jellett = top.jellett(y);
     out
 }
 
-/// [`PlayTop::columns`], with the resistance torques compiled in when `RES`
-/// ([`PlayTop::dynamics_with`]).
-fn columns_with<const RES: bool>(top: &PlayTop, all: &[PlayRow]) -> PlayColumns {
-    use crate::rotation::euler_from_matrix;
+/// [`PlayTop::columns`].
+fn columns_of(top: &PlayTop, all: &[PlayRow]) -> PlayColumns {
     use crate::simulate::Unwrapped;
     // Rows in blocks, then the blocks' columns: pushing to ten columns per row costs more
     // than the row's arithmetic, and rows for the whole run would be a large allocation.
@@ -372,45 +250,12 @@ fn columns_with<const RES: bool>(top: &PlayTop, all: &[PlayRow]) -> PlayColumns 
         part_normal_force: Vec::with_capacity(n),
         part_slip_velocity: Vec::with_capacity(n),
     };
-    let classic = top.is_classic();
-    let consts = top.rhs_consts();
     let mut angles = Unwrapped::default();
     let mut rows = [Row::default(); BLOCK];
     for start in (0..n).step_by(BLOCK) {
         let end = n.min(start + BLOCK);
         for (row, r) in rows.iter_mut().zip(&all[start..end]) {
-            let (y, mode, dir) = (&r.y, r.mode(), r.dir());
-            *row = if classic {
-                let k = top.kin(y);
-                let (phi, theta, psi) = euler_from_matrix(k.r);
-                let (phi, psi) = angles.next(phi, psi);
-                let mut dy = [0.0; DIM];
-                let (a, b, p) = top.energy_parts(y);
-                let normal_force = top
-                    .dynamics_with::<RES, { law::ANY }>(&consts, mode, y, dir, &mut dy)
-                    .n;
-                let mut part_in_contact = [false; MAX_PARTS];
-                let mut part_normal_force = [0.0; MAX_PARTS];
-                let mut part_slip_velocity = [[0.0; 2]; MAX_PARTS];
-                part_in_contact[0] = mode != Mode::Flight;
-                part_normal_force[0] = normal_force;
-                part_slip_velocity[0] = [k.v_t[0], k.v_t[1]];
-                Row {
-                    u: k.u,
-                    euler: (phi, theta, psi),
-                    contact: [y[7] + k.a_s[0], y[8] + k.a_s[1], y[9] + k.a_s[2]],
-                    slip_velocity: k.v_t,
-                    slip_speed: (k.v_t[0] * k.v_t[0] + k.v_t[1] * k.v_t[1]).sqrt(),
-                    normal_force,
-                    jellett: top.jellett(y),
-                    energy_parts: [a, b, p],
-                    part_in_contact,
-                    part_normal_force,
-                    part_slip_velocity,
-                }
-            } else {
-                multi_row(top, r, &mut angles)
-            };
+            *row = row_of(top, r, &mut angles);
         }
         let rows = &rows[..end - start];
         c.u.extend(rows.iter().map(|r| r.u));
@@ -519,7 +364,7 @@ impl Accumulate<PlayRow> for PlayAcc<'_> {
                 .map_or(f64::NAN, |e| e.t)
         };
         PlaySummary {
-            final_u: last.map_or(f64::NAN, |r| self.top.kin(&r.y).u),
+            final_u: last.map_or(f64::NAN, |r| self.top.kin(&r.y).e3[2]),
             final_mode: last.map_or(Mode::Flight, |r| r.mode()),
             inversion_time: info
                 .events

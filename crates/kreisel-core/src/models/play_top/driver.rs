@@ -1,12 +1,11 @@
-//! The play top's hybrid driver: smooth phases, each integrated with DOP853 and ended by
-//! located events, joined by contact switches. One driver for two sets of contact rules:
-//! [`Classic`] (one sphere, [`super::contact`]) and [`Multi`] (several parts or
-//! Coulomb-Contensou friction, [`super::multi`]).
+//! The hybrid run of a top on a floor: smooth phases, each integrated with DOP853 and ended
+//! by located events, joined by contact switches (touchdown, lift-off, slip to stick, stick
+//! to slip, the jam's tangential impact, lying flat), each of one part; what each switch
+//! does; and the run's guards (energy kept across switches, chattering).
 
-use super::contact::{Phase, Switch};
-use super::multi::{Contacts, Forces};
-use super::simulate::{integrate_phase, LastRhs, PlayRow};
-use super::{Mode, PlayTop, Shape, DIM};
+use super::simulate::PlayRow;
+use super::solve::Kernel;
+use super::{Contacts, Forces, Mode, PlayTop, Shape, DIM};
 use crate::error::{KreiselError, Result};
 use crate::integrate::{
     Dop853, EventSpec, IntegrateError, Locator, Observer, OdeSystem, Stream, WithEvents,
@@ -14,7 +13,7 @@ use crate::integrate::{
 use crate::simulate::{
     integrate_error, EventKind, EventRecord, RunInfo, Settings, Sink, Status, MAX_STEPS,
 };
-use std::cell::Cell;
+use std::cell::{Cell, RefCell};
 
 /// The most contact switches a run may make before it is taken for chattering.
 const MAX_SWITCHES: usize = 200_000;
@@ -23,111 +22,9 @@ type RawEventFn<'a> = Box<dyn FnMut(f64, &[f64; DIM]) -> f64 + 'a>;
 
 type PhaseResult = std::result::Result<(f64, [f64; DIM], crate::integrate::Stats), IntegrateError>;
 
-/// A set of contact rules: its phases, the switches watched in each, and what each does.
-pub(crate) trait Hybrid {
-    /// Where a phase stands.
-    type Phase: Copy;
-    /// A switch of contact, located as an event of the phase it ends.
-    type Switch: Copy;
-    /// The phase a state starts in (the state put on its constraints), and the switch the
-    /// start needed (a touchdown at t = 0, a tangential impact), if any.
-    fn start(&self, y: &mut [f64; DIM], rtol: f64) -> (Self::Phase, Option<Self::Switch>);
-    /// The switches watched in a phase.
-    fn watched(&self, phase: &Self::Phase) -> Vec<Self::Switch>;
-    /// Whether a switch is the classic lift-off (whose normal force the last right-hand side
-    /// gives).
-    fn is_lift_off(&self, sw: Self::Switch) -> bool;
-    /// The event function of a switch (a sign change downward triggers it).
-    fn value(&self, sw: Self::Switch, phase: &Self::Phase, y: &[f64; DIM], eps: f64) -> f64;
-    /// The event's public name and its part.
-    fn record(&self, sw: Self::Switch) -> (&'static str, Option<usize>);
-    /// Called with each phase's first state and its slip tolerance before it is integrated.
-    fn prepare(&self, _phase: &mut Self::Phase, _y: &[f64; DIM], _eps: f64) {}
-    /// Carries out a switch at the located state.
-    fn apply(
-        &self,
-        sw: Self::Switch,
-        phase: &Self::Phase,
-        y: &mut [f64; DIM],
-        rtol: f64,
-    ) -> Self::Phase;
-    /// The largest step of a phase.
-    fn max_step(&self, phase: &Self::Phase, y: &[f64; DIM]) -> f64;
-    /// The slip speed taken as zero in a phase from `y`.
-    fn tolerance(&self, y: &[f64; DIM], rtol: f64) -> f64;
-    /// The row of a state in a phase.
-    fn row(&self, phase: &Self::Phase, y: &[f64; DIM]) -> PlayRow;
-    /// Integrates one phase.
-    #[allow(clippy::too_many_arguments)]
-    fn integrate<O: Observer<DIM>>(
-        &self,
-        integrator: &Dop853,
-        phase: &Self::Phase,
-        last: &Cell<LastRhs>,
-        t: f64,
-        y: [f64; DIM],
-        t_end: f64,
-        obs: &mut O,
-    ) -> PhaseResult;
-    /// The name of a phase's mode for messages.
-    fn mode_name(&self, phase: &Self::Phase) -> &'static str;
-}
-
-/// The one-sphere rules of [`super::contact`].
-pub(crate) struct Classic<'a>(pub &'a PlayTop);
-
-impl Hybrid for Classic<'_> {
-    type Phase = Phase;
-    type Switch = Switch;
-    fn start(&self, y: &mut [f64; DIM], rtol: f64) -> (Phase, Option<Switch>) {
-        self.0.initial_phase_jam(y, rtol)
-    }
-    fn watched(&self, phase: &Phase) -> Vec<Switch> {
-        let top = self.0;
-        let jam = top.may_jam(-top.s, top.rho);
-        Switch::watched(phase.mode, top.friction.can_stick(), jam).to_vec()
-    }
-    fn is_lift_off(&self, sw: Switch) -> bool {
-        sw == Switch::LiftOff
-    }
-    fn value(&self, sw: Switch, phase: &Phase, y: &[f64; DIM], eps: f64) -> f64 {
-        self.0.switch_value(sw, phase, y, eps)
-    }
-    fn record(&self, sw: Switch) -> (&'static str, Option<usize>) {
-        (sw.name(), Some(0))
-    }
-    fn apply(&self, sw: Switch, phase: &Phase, y: &mut [f64; DIM], rtol: f64) -> Phase {
-        self.0.switch(sw, phase, y, rtol)
-    }
-    fn max_step(&self, phase: &Phase, y: &[f64; DIM]) -> f64 {
-        self.0.phase_step(phase, y)
-    }
-    fn tolerance(&self, y: &[f64; DIM], rtol: f64) -> f64 {
-        self.0.slip_tolerance(y, rtol)
-    }
-    fn row(&self, phase: &Phase, y: &[f64; DIM]) -> PlayRow {
-        PlayRow::classic(*y, phase.mode, phase.dir)
-    }
-    fn integrate<O: Observer<DIM>>(
-        &self,
-        integrator: &Dop853,
-        phase: &Phase,
-        last: &Cell<LastRhs>,
-        t: f64,
-        y: [f64; DIM],
-        t_end: f64,
-        obs: &mut O,
-    ) -> PhaseResult {
-        integrate_phase(integrator, self.0, phase, last, t, y, t_end, obs)
-    }
-    fn mode_name(&self, phase: &Phase) -> &'static str {
-        phase.mode.name()
-    }
-}
-
 /// A switch of the several-part rules, each of one part.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum MSwitch {
+pub enum Switch {
     /// The part reaches the floor.
     Touchdown(usize),
     /// The part's normal force falls to zero.
@@ -149,27 +46,27 @@ pub enum MSwitch {
 /// Euler's disk's does, and the run stops there with the event `flat`.
 pub const FLAT_LEVEL: f64 = 1e-4;
 
-impl MSwitch {
+impl Switch {
     /// The event's public name.
     pub const fn name(self) -> &'static str {
         match self {
-            MSwitch::Touchdown(_) => "touchdown",
-            MSwitch::LiftOff(_) => "lift_off",
-            MSwitch::SlipToRoll(_) => "slip_to_roll",
-            MSwitch::RollToSlip(_) => "roll_to_slip",
-            MSwitch::Jam(_) => "tangential_impact",
-            MSwitch::Flat(_) => "flat",
+            Switch::Touchdown(_) => "touchdown",
+            Switch::LiftOff(_) => "lift_off",
+            Switch::SlipToRoll(_) => "slip_to_roll",
+            Switch::RollToSlip(_) => "roll_to_slip",
+            Switch::Jam(_) => "tangential_impact",
+            Switch::Flat(_) => "flat",
         }
     }
     /// The part.
     pub const fn part(self) -> usize {
         match self {
-            MSwitch::Touchdown(i)
-            | MSwitch::LiftOff(i)
-            | MSwitch::SlipToRoll(i)
-            | MSwitch::RollToSlip(i)
-            | MSwitch::Jam(i)
-            | MSwitch::Flat(i) => i,
+            Switch::Touchdown(i)
+            | Switch::LiftOff(i)
+            | Switch::SlipToRoll(i)
+            | Switch::RollToSlip(i)
+            | Switch::Jam(i)
+            | Switch::Flat(i) => i,
         }
     }
 }
@@ -177,14 +74,14 @@ impl MSwitch {
 /// Where a phase of the several-part rules stands: each part's mode and slip direction, and
 /// the expected flight time of a bounce (infinite: unknown).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct MPhase {
+pub struct Phase {
     /// The parts' modes.
     pub contacts: Contacts,
     /// Expected flight time after a bounce (s).
     pub hop: f64,
 }
 
-/// The several-part rules of [`super::multi`]. `last` keeps the forces of the last
+/// The contact rules of a top on a floor. `last` keeps the forces of the last
 /// right-hand side evaluated (its state and contacts as the key): the integrator evaluates it
 /// at the end of every accepted step just before the events are checked there, so the events
 /// that need the forces (lift-off, roll-to-slip, the jam) take them instead of solving again.
@@ -194,35 +91,58 @@ pub struct MPhase {
 /// that is lower than the floor (a part off the floor while others touch may start a hair
 /// below it, by the rounding of their constraints), so that every touchdown event function
 /// starts positive.
-pub(crate) struct Multi<'a>(
+pub(crate) struct Rules<'a>(
     pub &'a PlayTop,
-    pub Cell<Option<Solved>>,
+    pub RefCell<Solved>,
     pub Cell<[f64; super::MAX_PARTS]>,
 );
 
-/// The forces of one state and set of contacts (see [`Multi`]).
+/// The forces of the last right-hand side of a phase (see [`Rules`]), keyed by its time and
+/// orientation as integrated: the integrator evaluates the right-hand side at the (projected)
+/// end of every accepted step just before the events are checked there; a stage or a
+/// root-finding state at the same time has another orientation (a step's last stage is not
+/// projected), so only the step's end reuses them. Each phase starts with none.
 #[derive(Clone, Copy)]
 pub(crate) struct Solved {
-    y: [f64; 13],
-    contacts: Contacts,
+    t: f64,
+    q: [f64; 4],
     forces: Forces,
 }
 
-impl<'a> Multi<'a> {
+impl Solved {
+    const NONE: Solved = Solved {
+        t: f64::NAN,
+        q: [f64::NAN; 4],
+        forces: Forces {
+            n: [0.0; super::MAX_PARTS],
+            ft: [[0.0; 2]; super::MAX_PARTS],
+            mz: [0.0; super::MAX_PARTS],
+            den: [0.0; super::MAX_PARTS],
+        },
+    };
+}
+
+impl<'a> Rules<'a> {
     /// The rules of `top`, nothing evaluated yet.
     pub(crate) fn new(top: &'a PlayTop) -> Self {
-        Multi(top, Cell::new(None), Cell::new([0.0; super::MAX_PARTS]))
+        Rules(
+            top,
+            RefCell::new(Solved::NONE),
+            Cell::new([0.0; super::MAX_PARTS]),
+        )
     }
 
-    /// The forces at `y` with `contacts`, from the last right-hand side where it was there.
-    fn forces(&self, contacts: &Contacts, y: &[f64; DIM]) -> Forces {
-        if let Some(s) = self.1.get() {
-            if s.y[..] == y[..13] && s.contacts == *contacts {
+    /// The forces at `(t, y)` with `contacts`, from the last right-hand side where it was
+    /// there.
+    fn forces(&self, contacts: &Contacts, t: f64, y: &[f64; DIM]) -> Forces {
+        {
+            let s = self.1.borrow();
+            if s.t == t && s.q == [y[0], y[1], y[2], y[3]] {
                 return s.forces;
             }
         }
         let mut dy = [0.0; DIM];
-        self.0.multi_dynamics(contacts, y, &mut dy)
+        self.0.dynamics(contacts, y, &mut dy)
     }
 
     /// The own coefficient below which a sliding part is taken to jam.
@@ -232,12 +152,12 @@ impl<'a> Multi<'a> {
 
     /// Ring part `i` lies flat from `y` on: sliding, or stuck where its sliding is within the
     /// tolerance and its law can stick; `y` put on the flat contact.
-    fn lie_flat(&self, i: usize, y: &mut [f64; DIM], rtol: f64) -> MPhase {
+    fn lie_flat(&self, i: usize, y: &mut [f64; DIM], rtol: f64) -> Phase {
         let top = self.0;
         let stuck = top.friction.can_stick() && top.flat_slide(i, y) <= self.tolerance(y, rtol);
         let contacts = top.flat_contacts(i, stuck);
-        top.multi_project(&contacts, y);
-        MPhase {
+        top.project(&contacts, y);
+        Phase {
             contacts,
             hop: f64::INFINITY,
         }
@@ -245,14 +165,14 @@ impl<'a> Multi<'a> {
 
     /// After an impulse: the parts touching and not separating resolved into modes, the
     /// rest in flight; the bounce's expected flight time.
-    fn after_impulse(&self, y: &mut [f64; DIM], prev: &Contacts, rtol: f64) -> MPhase {
+    fn after_impulse(&self, y: &mut [f64; DIM], prev: &Contacts, rtol: f64) -> Phase {
         let top = self.0;
         let l = top.reach();
         // The impact was located a hair below the floor ([`PlayTop::touchdown_offset`]): the
         // top is put back on it, so that a part that bounces starts its flight at the floor
         // and its touchdown event function starts positive (however the rim swings down).
         {
-            let k = top.mkin(y);
+            let k = top.kin(y);
             let lowest = top
                 .parts
                 .iter()
@@ -262,7 +182,7 @@ impl<'a> Multi<'a> {
                 y[9] -= lowest;
             }
         }
-        let vscale = top.multi_speed_scale(y);
+        let vscale = top.speed_scale(y);
         let cand = top.touching(y, 1e-9 * l, 1e-9 * vscale);
         let eps = self.tolerance(y, rtol);
         // A ring that comes down flat and does not bounce lies flat.
@@ -276,7 +196,7 @@ impl<'a> Multi<'a> {
         } else {
             top.resolve(y, cand, prev, eps)
         };
-        let k = top.mkin(y);
+        let k = top.kin(y);
         // The shortest separating part's flight, for the step limit; a separation below the
         // bounce cut-off (a round-off velocity) limits nothing.
         let mut hop = f64::INFINITY;
@@ -286,25 +206,22 @@ impl<'a> Multi<'a> {
                 hop = hop.min(top.bounce(i, y, vn).unwrap_or(f64::INFINITY));
             }
         }
-        top.multi_project(&contacts, y);
-        MPhase { contacts, hop }
+        top.project(&contacts, y);
+        Phase { contacts, hop }
     }
 }
 
-impl Hybrid for Multi<'_> {
-    type Phase = MPhase;
-    type Switch = MSwitch;
-
-    fn start(&self, y: &mut [f64; DIM], rtol: f64) -> (MPhase, Option<MSwitch>) {
+impl Rules<'_> {
+    pub(crate) fn start(&self, y: &mut [f64; DIM], rtol: f64) -> (Phase, Option<Switch>) {
         let top = self.0;
         let l = top.reach();
         let eps = self.tolerance(y, rtol);
         // A part on the floor and moving into it strikes it: the impact of a touchdown at
         // t = 0 (the fastest such part; the impact resolves the others). Putting it on the
         // contact instead would take its normal velocity unrecorded.
-        let vtol = 1e-12 * top.multi_speed_scale(y);
+        let vtol = 1e-12 * top.speed_scale(y);
         let strike = {
-            let k = top.mkin(y);
+            let k = top.kin(y);
             (0..top.parts.n)
                 .filter(|&i| top.parts.shape[i].gap(k.zg, k.e3) <= 1e-12 * l)
                 .map(|i| (i, top.parts.shape[i].gap_rate(k.v[2], k.w, k.e3)))
@@ -312,12 +229,12 @@ impl Hybrid for Multi<'_> {
                 .min_by(|a, b| a.1.total_cmp(&b.1))
         };
         if let Some((i, _)) = strike {
-            let none = MPhase {
+            let none = Phase {
                 contacts: Contacts::NONE,
                 hop: f64::INFINITY,
             };
-            let phase = self.apply(MSwitch::Touchdown(i), &none, y, rtol);
-            return (phase, Some(MSwitch::Touchdown(i)));
+            let phase = self.apply(Switch::Touchdown(i), &none, y, rtol);
+            return (phase, Some(Switch::Touchdown(i)));
         }
         // Parts moving away from the floor fly.
         let cand = top.touching(y, 1e-12 * l, vtol);
@@ -333,11 +250,11 @@ impl Hybrid for Multi<'_> {
         } else {
             top.resolve_jam(y, cand, &Contacts::NONE, eps)
         };
-        let jam = jam.then(|| MSwitch::Jam(cand.trailing_zeros() as usize));
+        let jam = jam.then(|| Switch::Jam(cand.trailing_zeros() as usize));
         // A part that starts sticking with a round-off slip is stopped exactly.
         for i in 0..top.parts.n {
             if contacts.mode[i] == Mode::Roll {
-                let (yi, _) = top.multi_impact(y, contacts.mask(top.parts.n), [0.0; 4]);
+                let (yi, _) = top.impact(y, contacts.mask(top.parts.n), [0.0; 4]);
                 *y = yi;
                 break;
             }
@@ -345,9 +262,9 @@ impl Hybrid for Multi<'_> {
         if contacts.mask(top.parts.n) == 0 {
             contacts = Contacts::NONE;
         }
-        top.multi_project(&contacts, y);
+        top.project(&contacts, y);
         (
-            MPhase {
+            Phase {
                 contacts,
                 hop: f64::INFINITY,
             },
@@ -355,7 +272,7 @@ impl Hybrid for Multi<'_> {
         )
     }
 
-    fn watched(&self, phase: &MPhase) -> Vec<MSwitch> {
+    pub(crate) fn watched(&self, phase: &Phase) -> Vec<Switch> {
         let top = self.0;
         let stick = top.friction.can_stick();
         let mut out = Vec::with_capacity(3 * top.parts.n);
@@ -364,7 +281,7 @@ impl Hybrid for Multi<'_> {
             // stop sliding and spinning.
             for i in 0..top.parts.n {
                 if stick && phase.contacts.mode[i] == Mode::Slip {
-                    out.push(MSwitch::SlipToRoll(i));
+                    out.push(Switch::SlipToRoll(i));
                 }
             }
             return out;
@@ -374,50 +291,46 @@ impl Hybrid for Multi<'_> {
             let (lever, radius) = p.levers();
             let jam = top.may_jam(lever, radius);
             if phase.contacts.mode[i] != Mode::Flight && matches!(p, Shape::Torus { .. }) {
-                out.push(MSwitch::Flat(i));
+                out.push(Switch::Flat(i));
             }
             match phase.contacts.mode[i] {
-                Mode::Flight => out.push(MSwitch::Touchdown(i)),
+                Mode::Flight => out.push(Switch::Touchdown(i)),
                 Mode::Slip => {
-                    out.push(MSwitch::LiftOff(i));
+                    out.push(Switch::LiftOff(i));
                     if stick {
-                        out.push(MSwitch::SlipToRoll(i));
+                        out.push(Switch::SlipToRoll(i));
                     }
                     if jam {
-                        out.push(MSwitch::Jam(i));
+                        out.push(Switch::Jam(i));
                     }
                 }
                 Mode::Roll => {
-                    out.push(MSwitch::LiftOff(i));
-                    out.push(MSwitch::RollToSlip(i));
+                    out.push(Switch::LiftOff(i));
+                    out.push(Switch::RollToSlip(i));
                 }
             }
         }
         out
     }
 
-    fn is_lift_off(&self, _sw: MSwitch) -> bool {
-        false
-    }
-
-    fn value(&self, sw: MSwitch, phase: &MPhase, y: &[f64; DIM], eps: f64) -> f64 {
+    pub(crate) fn value(&self, sw: Switch, phase: &Phase, t: f64, y: &[f64; DIM], eps: f64) -> f64 {
         let top = self.0;
-        let forces = || self.forces(&phase.contacts, y);
+        let forces = || self.forces(&phase.contacts, t, y);
         match sw {
-            MSwitch::Touchdown(i) => {
-                // Located a hair below the floor (see [`Multi`]).
-                let k = top.mkin(y);
+            Switch::Touchdown(i) => {
+                // Located a hair below the floor (see [`Rules`]).
+                let k = top.kin(y);
                 top.parts.shape[i].gap(k.zg, k.e3) + self.2.get()[i]
             }
-            MSwitch::LiftOff(i) => forces().n[i],
-            MSwitch::SlipToRoll(i) if phase.contacts.flat => top.flat_slide(i, y) - eps,
-            MSwitch::SlipToRoll(i) => {
-                let k = top.mkin(y);
+            Switch::LiftOff(i) => forces().n[i],
+            Switch::SlipToRoll(i) if phase.contacts.flat => top.flat_slide(i, y) - eps,
+            Switch::SlipToRoll(i) => {
+                let k = top.kin(y);
                 let vp = top.parts.shape[i].point_velocity(k.v, k.w, k.e3);
                 top.slide_measure(vp, k.w[2]) - eps
             }
-            MSwitch::RollToSlip(i) => top.stick_margin(&forces(), i),
-            MSwitch::Jam(i) => {
+            Switch::RollToSlip(i) => top.stick_margin(&forces(), i),
+            Switch::Jam(i) => {
                 // Sliding's own coefficient falls to the jam level, or the normal force it
                 // gives grows past a hundred weights (the coefficient heading for zero
                 // faster than the steps can follow): either way the tangential impact.
@@ -430,21 +343,22 @@ impl Hybrid for Multi<'_> {
                     own
                 }
             }
-            MSwitch::Flat(_) => {
-                let u = top.mkin(y).e3[2];
+            Switch::Flat(_) => {
+                let u = top.kin(y).e3[2];
                 (1.0 - u * u).max(0.0).sqrt() - FLAT_LEVEL
             }
         }
     }
 
-    fn record(&self, sw: MSwitch) -> (&'static str, Option<usize>) {
+    pub(crate) fn record(&self, sw: Switch) -> (&'static str, Option<usize>) {
         (sw.name(), Some(sw.part()))
     }
 
-    fn prepare(&self, phase: &mut MPhase, y: &[f64; DIM], eps: f64) {
+    pub(crate) fn prepare(&self, phase: &mut Phase, y: &[f64; DIM], eps: f64) {
         let top = self.0;
+        *self.1.borrow_mut() = Solved::NONE;
         phase.contacts.creep = eps;
-        let k = top.mkin(y);
+        let k = top.kin(y);
         let mut floor = [0.0; super::MAX_PARTS];
         for (i, f) in floor.iter_mut().enumerate().take(top.parts.n) {
             let gap = top.parts.shape[i].gap(k.zg, k.e3);
@@ -453,32 +367,32 @@ impl Hybrid for Multi<'_> {
         self.2.set(floor);
     }
 
-    fn apply(&self, sw: MSwitch, phase: &MPhase, y: &mut [f64; DIM], rtol: f64) -> MPhase {
+    pub(crate) fn apply(&self, sw: Switch, phase: &Phase, y: &mut [f64; DIM], rtol: f64) -> Phase {
         let top = self.0;
         let n = top.parts.n;
         let mut c = phase.contacts;
         match sw {
-            MSwitch::LiftOff(i) => {
+            Switch::LiftOff(i) => {
                 // Leaves from the contact: the located state is put back on it first.
-                top.multi_project(&c, y);
+                top.project(&c, y);
                 c.mode[i] = Mode::Flight;
                 let eps = self.tolerance(y, rtol);
                 let rest = c.mask(n);
                 if rest != 0 {
                     c = top.resolve(y, rest, &c, eps);
                 }
-                top.multi_project(&c, y);
-                MPhase {
+                top.project(&c, y);
+                Phase {
                     contacts: c,
                     hop: f64::INFINITY,
                 }
             }
-            MSwitch::Touchdown(i)
+            Switch::Touchdown(i)
                 if c.mask(n) == 0 && top.lying_flat(y, 1e-9 * top.reach()) == Some(i) =>
             {
                 // A ring comes down flat: the whole rim strikes at once.
                 if top.flat_impact(i, y, top.restitution) {
-                    MPhase {
+                    Phase {
                         contacts: Contacts::NONE,
                         hop: 2.0 * y[12] / top.g,
                     }
@@ -486,23 +400,23 @@ impl Hybrid for Multi<'_> {
                     self.lie_flat(i, y, rtol)
                 }
             }
-            MSwitch::Touchdown(i) => {
+            Switch::Touchdown(i) => {
                 let set = c.mask(n) | (1 << i);
                 let mut target = [0.0; 4];
-                let k = top.mkin(y);
+                let k = top.kin(y);
                 let vn = top.parts.shape[i].gap_rate(k.v[2], k.w, k.e3);
                 target[i] = -top.restitution * vn;
                 // A bounce below the cut-off is absorbed ([`PlayTop::bounce_height`]).
                 if top.bounce(i, y, target[i]).is_none() {
                     target[i] = 0.0;
                 }
-                let (yi, _) = top.multi_impact(y, set, target);
+                let (yi, _) = top.impact(y, set, target);
                 // A part the impact lifts off so slowly that it would be back within a
                 // thousandth of the free-fall time through the reach (a rocking between two
                 // parts whose period shrinks to zero, as a rocking block's does) stays on the
                 // floor: the impact is taken again with it kept.
                 let rock = 1e-3 * (top.reach() / top.g.max(1e-300)).sqrt();
-                let k1 = top.mkin(&yi);
+                let k1 = top.kin(&yi);
                 let mut keep = 0u8;
                 for j in 0..n {
                     if set & (1 << j) != 0 && j != i {
@@ -513,22 +427,22 @@ impl Hybrid for Multi<'_> {
                     }
                 }
                 *y = if keep != 0 {
-                    top.multi_impact_keeping(y, set, target, keep).0
+                    top.impact_keeping(y, set, target, keep).0
                 } else {
                     yi
                 };
                 self.after_impulse(y, &c, rtol)
             }
-            MSwitch::SlipToRoll(i) if phase.contacts.flat => {
+            Switch::SlipToRoll(i) if phase.contacts.flat => {
                 // A flat ring's sliding and spinning stop together: it rests.
                 let c = top.flat_contacts(i, true);
-                top.multi_project(&c, y);
-                MPhase {
+                top.project(&c, y);
+                Phase {
                     contacts: c,
                     hop: f64::INFINITY,
                 }
             }
-            MSwitch::SlipToRoll(i) => {
+            Switch::SlipToRoll(i) => {
                 // Part i stops slipping. Every touching part whose sliding has stopped (within
                 // the tolerance) is tried sticking with it, jointly: a part that could not
                 // stick alone while another still slid may stick once both do. The impulse
@@ -537,13 +451,13 @@ impl Hybrid for Multi<'_> {
                 // "Stopped": within the tolerance, or no faster than part i is as it stops
                 // (its located measure may exceed the tolerance by the location's error).
                 let eps = {
-                    let k = top.mkin(y);
+                    let k = top.kin(y);
                     let vp = top.parts.shape[i].point_velocity(k.v, k.w, k.e3);
                     self.tolerance(y, rtol).max(top.slide_measure(vp, k.w[2])) * 1.01
                 };
                 let mut dy = [0.0; DIM];
                 for round in 0..n {
-                    let k = top.mkin(y);
+                    let k = top.kin(y);
                     let mut want = c;
                     let mut tried = 0u8;
                     for j in 0..n {
@@ -572,47 +486,47 @@ impl Hybrid for Multi<'_> {
                     for (j, t) in target.iter_mut().enumerate().take(n) {
                         *t = top.parts.shape[j].gap_rate(k.v[2], k.w, k.e3).max(0.0);
                     }
-                    let (yi, _) = top.multi_impact(y, sticking, target);
+                    let (yi, _) = top.impact(y, sticking, target);
                     *y = yi;
                     c = want;
                 }
-                top.multi_project(&c, y);
-                MPhase {
+                top.project(&c, y);
+                Phase {
                     contacts: c,
                     hop: phase.hop,
                 }
             }
-            MSwitch::RollToSlip(i) => {
+            Switch::RollToSlip(i) => {
                 let mut dy = [0.0; DIM];
-                c.slide_against(i, &top.multi_dynamics(&c, y, &mut dy));
-                let f = top.multi_dynamics(&c, y, &mut dy);
+                c.slide_against(i, &top.dynamics(&c, y, &mut dy));
+                let f = top.dynamics(&c, y, &mut dy);
                 if f.n[i] < 0.0 {
                     c.mode[i] = Mode::Flight;
                 }
-                top.multi_project(&c, y);
-                MPhase {
+                top.project(&c, y);
+                Phase {
                     contacts: c,
                     hop: f64::INFINITY,
                 }
             }
-            MSwitch::Flat(i) => {
+            Switch::Flat(i) => {
                 // The ring comes down flat: the plastic impact of its face, then it lies flat.
                 self.lie_flat(i, y, rtol)
             }
-            MSwitch::Jam(i) => {
+            Switch::Jam(i) => {
                 // The tangential impact of the Painleve case: an impulse at the part that
                 // stops its slip, sticking if the cone allows, else sliding until the slip
                 // along its direction is gone.
                 *y = match top.jam_impact(y, i) {
                     Some(yi) => yi,
-                    None => top.multi_impact(y, c.mask(n), [0.0; 4]).0,
+                    None => top.impact(y, c.mask(n), [0.0; 4]).0,
                 };
                 self.after_impulse(y, &c, rtol)
             }
         }
     }
 
-    fn max_step(&self, phase: &MPhase, y: &[f64; DIM]) -> f64 {
+    pub(crate) fn max_step(&self, phase: &Phase, y: &[f64; DIM]) -> f64 {
         let top = self.0;
         if phase.contacts.mask(top.parts.n) != 0 {
             // A part off the floor while others touch closes its gap smoothly (the step
@@ -630,31 +544,31 @@ impl Hybrid for Multi<'_> {
         h
     }
 
-    fn tolerance(&self, y: &[f64; DIM], rtol: f64) -> f64 {
-        (10.0 * rtol).max(1e-10) * self.0.multi_speed_scale(y)
+    pub(crate) fn tolerance(&self, y: &[f64; DIM], rtol: f64) -> f64 {
+        (10.0 * rtol).max(1e-10) * self.0.speed_scale(y)
     }
 
-    fn row(&self, phase: &MPhase, y: &[f64; DIM]) -> PlayRow {
+    pub(crate) fn row(&self, phase: &Phase, y: &[f64; DIM]) -> PlayRow {
         PlayRow {
             y: *y,
             contacts: phase.contacts,
         }
     }
 
-    fn integrate<O: Observer<DIM>>(
+    pub(crate) fn integrate<O: Observer<DIM>>(
         &self,
         integrator: &Dop853,
-        phase: &MPhase,
-        _last: &Cell<LastRhs>,
+        phase: &Phase,
         t: f64,
         y: [f64; DIM],
         t_end: f64,
         obs: &mut O,
     ) -> PhaseResult {
         integrator.integrate(
-            &MultiSystem {
+            &PhaseSystem {
                 top: self.0,
                 contacts: phase.contacts,
+                kernel: Kernel::of(self.0, &phase.contacts),
                 last: &self.1,
             },
             t,
@@ -664,33 +578,31 @@ impl Hybrid for Multi<'_> {
         )
     }
 
-    fn mode_name(&self, phase: &MPhase) -> &'static str {
+    pub(crate) fn mode_name(&self, phase: &Phase) -> &'static str {
         phase.contacts.overall(self.0.parts.n).name()
     }
 }
 
 /// The several-part equations with the parts' modes fixed; every right-hand side's forces
 /// are left in `last`.
-struct MultiSystem<'a> {
+struct PhaseSystem<'a> {
     top: &'a PlayTop,
     contacts: Contacts,
-    last: &'a Cell<Option<Solved>>,
+    kernel: Kernel,
+    last: &'a RefCell<Solved>,
 }
 
-impl OdeSystem<DIM> for MultiSystem<'_> {
-    #[inline]
-    fn rhs(&self, _t: f64, y: &[f64; DIM], dy: &mut [f64; DIM]) {
-        let forces = self.top.multi_dynamics(&self.contacts, y, dy);
-        let mut key = [0.0; 13];
-        key.copy_from_slice(&y[..13]);
-        self.last.set(Some(Solved {
-            y: key,
-            contacts: self.contacts,
-            forces,
-        }));
+impl OdeSystem<DIM> for PhaseSystem<'_> {
+    #[inline(always)]
+    fn rhs(&self, t: f64, y: &[f64; DIM], dy: &mut [f64; DIM]) {
+        let mut last = self.last.borrow_mut();
+        last.t = t;
+        last.q = [y[0], y[1], y[2], y[3]];
+        self.top
+            .rates(self.kernel, &self.contacts, y, dy, &mut last.forces);
     }
     fn project(&self, y: &mut [f64; DIM]) {
-        self.top.multi_project(&self.contacts, y);
+        self.top.project(&self.contacts, y);
     }
 }
 
@@ -707,8 +619,8 @@ fn no_energy_from_a_switch(top: &PlayTop, y: &mut [f64; DIM], before: f64) {
 const REST: f64 = 1e-12;
 
 /// The hybrid run of `top` under the rules `h` (see [`crate::simulate::Model::run`]).
-pub(crate) fn drive<H: Hybrid>(
-    h: &H,
+pub(crate) fn drive(
+    h: &Rules<'_>,
     top: &PlayTop,
     y0: &[f64; DIM],
     settings: &Settings,
@@ -739,7 +651,7 @@ pub(crate) fn drive<H: Hybrid>(
     let rest_level = REST * top.kinetic_energy(&y);
     // The functions of the watched events (None: not watched by the play top).
     let value = move |kind: EventKind, y: &[f64; DIM]| match kind {
-        EventKind::Inversion(level) => Some(top.mkin(y).e3[2] - level),
+        EventKind::Inversion(level) => Some(top.kin(y).e3[2] - level),
         EventKind::Rest => Some(top.kinetic_energy(y) - rest_level),
         _ => None,
     };
@@ -758,24 +670,13 @@ pub(crate) fn drive<H: Hybrid>(
         h.prepare(&mut phase, &y, eps);
         let ph = phase;
         // The contact switches of this phase (terminal), then the watched events.
-        let last = Cell::new(LastRhs::NONE);
         let switches = h.watched(&ph);
         let mut fns: Vec<RawEventFn<'_>> = Vec::with_capacity(switches.len() + 2);
         let mut specs = Vec::with_capacity(switches.len() + 2);
         for &sw in &switches {
-            let last = &last;
-            fns.push(if h.is_lift_off(sw) {
-                Box::new(move |t: f64, y: &[f64; DIM]| {
-                    let c = last.get();
-                    if c.t == t && c.q == [y[0], y[1], y[2], y[3]] {
-                        // The end of a step, just evaluated by the integrator (LastRhs).
-                        return c.n;
-                    }
-                    h.value(sw, &ph, y, eps)
-                })
-            } else {
-                Box::new(move |_t: f64, y: &[f64; DIM]| h.value(sw, &ph, y, eps))
-            });
+            fns.push(Box::new(move |t: f64, y: &[f64; DIM]| {
+                h.value(sw, &ph, t, y, eps)
+            }));
             specs.push(EventSpec::new(-1, true));
         }
         let mut watched = Vec::with_capacity(settings.events.len());
@@ -811,7 +712,7 @@ pub(crate) fn drive<H: Hybrid>(
         let mut stream = Stream::new(seg_times, !first, Some(&mut *keep_going), row);
         let mut obs = WithEvents::new(locator, &mut stream);
         let (t1, y1, st) = h
-            .integrate(&integrator, &ph, &last, t, y, t_end, &mut obs)
+            .integrate(&integrator, &ph, t, y, t_end, &mut obs)
             .map_err(|e| match integrate_error(e, t_end) {
                 KreiselError::Numerical(m) => {
                     KreiselError::Numerical(format!("play top, {} mode: {m}", h.mode_name(&ph)))

@@ -1,0 +1,226 @@
+//! The friction laws at a contact and the resistance torques (theory: play top; theory:
+//! several parts): each law's force (and drilling torque) per unit normal force while a part
+//! slides, the cone (ellipse) a sticking part's force must lie in, and the Painleve case
+//! where sliding has no consistent normal force.
+
+use super::solve::Forces;
+use super::{add, scale, Contacts, Mode, PlayTop, DIM};
+use crate::error::{non_negative, Result};
+use crate::rotation::dot;
+
+/// The tangential force law at the contact.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Friction {
+    /// Coulomb: |F_t| = mu N against the slip while slipping; rolling without slip while
+    /// the needed force stays within the cone |F_t| <= mu N.
+    Coulomb {
+        /// Friction coefficient.
+        mu: f64,
+    },
+    /// Viscous: F_t = -mu N v_T (mu in s/m).
+    Viscous {
+        /// Coefficient (s/m).
+        mu: f64,
+    },
+    /// No tangential force.
+    Frictionless,
+    /// Coulomb-Contensou friction over a circular patch (theory: several parts, Leine & Glocker
+    /// 2003): sliding and drilling share the elliptic reservoir
+    /// `|F|^2 + (M / rbar)^2 <= (mu N)^2`, `rbar = 3 pi R / 16`. Built with `radius > 0` only
+    /// ([`Friction::coulomb_contensou`] makes radius 0 plain Coulomb).
+    CoulombContensou {
+        /// Friction coefficient.
+        mu: f64,
+        /// Radius R of the contact patch (m).
+        radius: f64,
+    },
+}
+
+impl Friction {
+    /// Coulomb-Contensou friction, checked; a patch of radius 0 is plain Coulomb (the same
+    /// value, so the same results bit for bit).
+    pub fn coulomb_contensou(mu: f64, radius: f64) -> Result<Friction> {
+        non_negative("mu", mu)?;
+        non_negative("radius", radius)?;
+        Ok(if radius == 0.0 {
+            Friction::Coulomb { mu }
+        } else {
+            Friction::CoulombContensou { mu, radius }
+        })
+    }
+
+    /// Whether the law can stick (Coulomb and Coulomb-Contensou).
+    pub const fn can_stick(&self) -> bool {
+        matches!(
+            self,
+            Friction::Coulomb { .. } | Friction::CoulombContensou { .. }
+        )
+    }
+
+    /// The effective patch radius `rbar = 3 pi R / 16` of Coulomb-Contensou friction (0 for
+    /// every other law).
+    ///
+    /// Not inlined: inlined, the branch became a select that multiplied the `radius` slot
+    /// for every law, and under `Coulomb { mu }` that slot is the enum's uninitialised payload
+    /// (whatever the stack held); a subnormal there cost a microcode assist on every
+    /// right-hand side (T4 under point Coulomb friction: 0.78 s against 0.36 s for the same
+    /// steps, 5.3 s against 2.35 s at rtol 1e-8; the same run with the FPU's DAZ/FTZ flags
+    /// set took 0.35 s).
+    #[inline(never)]
+    pub fn rbar(&self) -> f64 {
+        match *self {
+            Friction::CoulombContensou { radius, .. } => 3.0 * std::f64::consts::PI * radius / 16.0,
+            _ => 0.0,
+        }
+    }
+
+    /// The law, its coefficient checked (mu >= 0, finite).
+    pub fn checked(self) -> Result<Friction> {
+        match self {
+            Friction::Coulomb { mu } | Friction::Viscous { mu } => {
+                non_negative("mu", mu)?;
+            }
+            Friction::Frictionless => {}
+            Friction::CoulombContensou { mu, radius } => {
+                return Friction::coulomb_contensou(mu, radius);
+            }
+        }
+        Ok(self)
+    }
+
+    /// The law's public name.
+    pub const fn name(&self) -> &'static str {
+        match self {
+            Friction::Coulomb { .. } => "coulomb",
+            Friction::Viscous { .. } => "viscous",
+            Friction::Frictionless => "none",
+            Friction::CoulombContensou { .. } => "coulomb_contensou",
+        }
+    }
+
+    /// The coefficient mu (0 without friction).
+    pub const fn mu(&self) -> f64 {
+        match *self {
+            Friction::Coulomb { mu }
+            | Friction::Viscous { mu }
+            | Friction::CoulombContensou { mu, .. } => mu,
+            Friction::Frictionless => 0.0,
+        }
+    }
+}
+
+impl PlayTop {
+    /// The friction of a sliding part per unit normal force: the tangential force (space,
+    /// horizontal) and the drilling torque, from the part's slip velocity `vp`, the drilling
+    /// rate `wn` and the direction `dir` taken at zero slip.
+    #[inline(always)]
+    pub fn friction_per_n(
+        &self,
+        vp: [f64; 3],
+        wn: f64,
+        dir: [f64; 2],
+        creep: f64,
+    ) -> ([f64; 2], f64) {
+        let sp = (vp[0] * vp[0] + vp[1] * vp[1]).sqrt();
+        // Creeping (the measure at or below `creep`, a direction set): the full friction
+        // against the force sticking would need.
+        let creeping = |d: f64| creep > 0.0 && d <= creep && dir != [0.0; 2];
+        match self.friction {
+            Friction::Coulomb { mu } => {
+                // (Point Coulomb friction keeps the direction of the slip above zero: its
+                // creep at the cone's edge follows the slip, and a direction fixed at the
+                // switch would make the force jump where the two part, at every step.)
+                if sp > 0.0 {
+                    ([-mu * vp[0] / sp, -mu * vp[1] / sp], 0.0)
+                } else {
+                    ([-mu * dir[0], -mu * dir[1]], 0.0)
+                }
+            }
+            Friction::CoulombContensou { mu, .. } => {
+                let rb = self.friction.rbar();
+                let d = (sp * sp + rb * rb * wn * wn).sqrt();
+                if d > 0.0 && !creeping(d) {
+                    ([-mu * vp[0] / d, -mu * vp[1] / d], -mu * rb * rb * wn / d)
+                } else {
+                    ([-mu * dir[0], -mu * dir[1]], 0.0)
+                }
+            }
+            Friction::Viscous { mu } => ([-mu * vp[0], -mu * vp[1]], 0.0),
+            Friction::Frictionless => ([0.0; 2], 0.0),
+        }
+    }
+
+    /// The measure of sliding that sticking ends at: the slip speed, and under
+    /// Coulomb-Contensou friction `sqrt(|v|^2 + rbar^2 w_n^2)` (sliding and drilling).
+    pub fn slide_measure(&self, vp: [f64; 3], wn: f64) -> f64 {
+        let rb = self.friction.rbar();
+        (vp[0] * vp[0] + vp[1] * vp[1] + rb * rb * wn * wn).sqrt()
+    }
+
+    /// Whether the friction a sticking part needs lies in its cone (Coulomb) or ellipse
+    /// (Coulomb-Contensou), with a pushing normal force.
+    pub fn stick_margin(&self, f: &Forces, i: usize) -> f64 {
+        let rb = self.friction.rbar();
+        let m = if rb > 0.0 { f.mz[i] / rb } else { 0.0 };
+        let t = f.ft[i][0] * f.ft[i][0] + f.ft[i][1] * f.ft[i][1];
+        self.friction.mu() * f.n[i] - (t + m * m).sqrt()
+    }
+
+    /// The resistance torques of rolling, drilling and air (theory: play top), from the
+    /// angular velocity `w` and the upward vertical `gamma` in any one frame (the torques are
+    /// in that frame): the part proportional to N (per unit N) and the part that is not;
+    /// `len` sets the regularisation's rate scale.
+    #[inline(always)]
+    pub(crate) fn resistance_at(
+        &self,
+        w: [f64; 3],
+        gamma: [f64; 3],
+        len: f64,
+    ) -> ([f64; 3], [f64; 3]) {
+        let mut per_n = [0.0; 3];
+        if self.rolling > 0.0 || self.drilling > 0.0 {
+            // Vertical and horizontal parts of omega, in the body frame.
+            let wz = dot(w, gamma);
+            let wh = add(w, scale(-wz, gamma));
+            let h = dot(wh, wh).sqrt();
+            // The sharp law down to reg ~ 1e-6 sqrt(g / rho), linear in the rate below it, so
+            // the torque vanishes continuously as the rolling stops (a sharper switch makes the
+            // equations stiff). Not h + reg: that would weaken the torque by reg / h at every
+            // rate, and a ball rolling to a stop would take ln(h0 / h_end) reg / (dh/dt) longer.
+            let reg = 1e-6 * (self.g / len).sqrt().max(1e-3);
+            per_n = add(
+                scale(-self.rolling / h.max(reg), wh),
+                scale(-self.drilling * wz / wz.abs().max(reg), gamma),
+            );
+        }
+        (per_n, scale(-self.air, w))
+    }
+
+    /// The level of sliding's own coefficient (1/kg) at which a sliding contact is taken to
+    /// jam: a hundredth of a free point mass's 1/m. The normal force grows as the coefficient's
+    /// inverse on the way there.
+    pub fn jam_level(&self) -> f64 {
+        1e-2 / self.m
+    }
+
+    /// Whether sliding at a part centred at `z` with radius `r` can ever jam: its own
+    /// coefficient is at least `1/m - mu |z| (|z| + r) / min(A, C)` (the normal part's
+    /// contribution is positive, the friction's at most mu times the arms' product over the
+    /// smallest moment), so below the jam level only when that bound is.
+    pub fn may_jam(&self, z: f64, r: f64) -> bool {
+        self.friction.can_stick()
+            && 1.0 / self.m - self.friction.mu() * z.abs() * (z.abs() + r) / self.a.min(self.c)
+                <= self.jam_level()
+    }
+
+    /// Sliding's own coefficient at a state for part 0: the acceleration of the contact's
+    /// height per unit normal force, friction included (1/kg), with the friction against the
+    /// slip (along `-dir` at zero slip); zero or negative is the Painleve case.
+    pub fn slip_coefficient(&self, y: &[f64; DIM], dir: [f64; 3]) -> f64 {
+        let mut dy = [0.0; DIM];
+        let mut c = Contacts::NONE;
+        c.mode[0] = Mode::Slip;
+        c.dir[0] = [dir[0], dir[1]];
+        self.dynamics(&c, y, &mut dy).den[0]
+    }
+}

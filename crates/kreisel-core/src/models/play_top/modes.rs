@@ -1,0 +1,393 @@
+//! Which parts touch and how: the contact modes the complementarity conditions allow (every
+//! touching part pushes, every part at zero gap that does not touch separates), sticking
+//! where the friction can hold a part, a ring lying flat, and the projection of a state onto
+//! its contacts' constraints (theory: several parts).
+
+// Index loops: parts are addressed together by position.
+#![allow(clippy::needless_range_loop)]
+
+use super::parts::{Shape, MAX_PARTS};
+use super::solve::{Forces, EZ};
+use super::{add, scale, Friction, Mode, PlayTop, DIM};
+use crate::rotation::{cross, dot, Quat};
+
+/// Every part's contact mode (slip, roll = stick, flight = not touching) and the slip
+/// direction (horizontal, space frame) a Coulomb force takes where the slip speed is zero.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Contacts {
+    /// Mode of each part.
+    pub mode: [Mode; MAX_PARTS],
+    /// Slip direction in force at zero slip speed, per part.
+    pub dir: [[f64; 2]; MAX_PARTS],
+    /// The one touching part is a ring lying flat: it touches along its whole circle
+    /// ([`PlayTop::flat_dynamics`]).
+    pub flat: bool,
+    /// The creep speed (m/s): a part sliding under Coulomb-Contensou friction whose sliding
+    /// measure is at or below it (it has stopped, to the phase's tolerance, but cannot stick:
+    /// the force sticking needs is outside its ellipse) takes the full friction against that
+    /// force (`dir`) instead of the direction of its round-off slip and drilling, so that it
+    /// creeps off instead of chattering about zero in ever smaller steps
+    /// ([`PlayTop::friction_per_n`]).
+    pub creep: f64,
+}
+
+impl Contacts {
+    /// No part touches.
+    pub const NONE: Contacts = Contacts {
+        mode: [Mode::Flight; MAX_PARTS],
+        dir: [[0.0; 2]; MAX_PARTS],
+        flat: false,
+        creep: 0.0,
+    };
+
+    /// The one mode that describes the whole top: slip if a part slides, else roll if a
+    /// part sticks, else flight.
+    pub fn overall(&self, n: usize) -> Mode {
+        let m = &self.mode[..n];
+        if m.contains(&Mode::Slip) {
+            Mode::Slip
+        } else if m.contains(&Mode::Roll) {
+            Mode::Roll
+        } else {
+            Mode::Flight
+        }
+    }
+
+    /// Part `i` slides against the friction force `f` says sticking would need.
+    pub fn slide_against(&mut self, i: usize, f: &Forces) {
+        let t = (f.ft[i][0] * f.ft[i][0] + f.ft[i][1] * f.ft[i][1]).sqrt();
+        if t > 0.0 {
+            self.dir[i] = [-f.ft[i][0] / t, -f.ft[i][1] / t];
+        }
+        self.mode[i] = Mode::Slip;
+    }
+
+    /// The parts touching, as a bit mask (bit i: part i).
+    pub fn mask(&self, n: usize) -> u8 {
+        (0..n).fold(0, |acc, i| {
+            acc | (u8::from(self.mode[i] != Mode::Flight) << i)
+        })
+    }
+
+    /// The parts in `mode`, as a bit mask.
+    pub fn mask_of(&self, mode: Mode, n: usize) -> u8 {
+        (0..n).fold(0, |acc, i| acc | (u8::from(self.mode[i] == mode) << i))
+    }
+}
+
+impl PlayTop {
+    /// The ring part lying flat at `y`, if one does: a torus touching (its gap within
+    /// `tol`) whose plane is within [`super::driver::FLAT_LEVEL`] of the floor's, and no
+    /// other part lower.
+    pub fn lying_flat(&self, y: &[f64; DIM], tol: f64) -> Option<usize> {
+        if self.g <= 0.0 {
+            return None;
+        }
+        let k = self.kin(y);
+        let tilt = k.e3[0].hypot(k.e3[1]);
+        if tilt >= super::driver::FLAT_LEVEL {
+            return None;
+        }
+        let gaps: Vec<f64> = (0..self.parts.n)
+            .map(|i| self.part(i).gap(k.zg, k.e3))
+            .collect();
+        let lowest = gaps.iter().cloned().fold(f64::INFINITY, f64::min);
+        (0..self.parts.n).find(|&i| {
+            matches!(self.part(i), Shape::Torus { .. })
+                && gaps[i] <= tol
+                && gaps[i] <= lowest + 1e-12 * self.reach()
+        })
+    }
+
+    /// The contacts of ring part `i` lying flat, sliding (or stuck where `stuck`).
+    pub fn flat_contacts(&self, i: usize, stuck: bool) -> Contacts {
+        let mut c = Contacts::NONE;
+        c.mode[i] = if stuck { Mode::Roll } else { Mode::Slip };
+        c.flat = true;
+        c
+    }
+
+    /// The sliding measure of a ring lying flat: `sqrt(|v|^2 + (R w_z)^2)`, the largest
+    /// speed of a point of its rim is at most this times sqrt 2.
+    pub fn flat_slide(&self, i: usize, y: &[f64; DIM]) -> f64 {
+        let k = self.kin(y);
+        let r = match *self.part(i) {
+            Shape::Torus { major, .. } => major,
+            _ => 0.0,
+        };
+        (k.v[0] * k.v[0] + k.v[1] * k.v[1] + r * r * k.w[2] * k.w[2]).sqrt()
+    }
+
+    /// Puts a state on the flat contact of ring part `i`: the figure axis exactly vertical
+    /// (the orientation a turn about it from upright or from upside down, so that the
+    /// integration keeps it exactly), no tilting rate, G at the ring's resting height with no
+    /// vertical velocity, and where `stuck` no motion at all. The kinetic energy removed
+    /// (a plastic impact of the ring's face on the floor) is added to the dissipated energy;
+    /// where the height's change would raise the energy, the velocities are scaled to keep
+    /// it.
+    pub fn flat_project(&self, i: usize, y: &mut [f64; DIM], stuck: bool) {
+        let before = self.kinetic_energy(y) + self.m * self.g * y[9];
+        let k = self.kin(y);
+        let up = k.e3[2] >= 0.0;
+        let wz = if stuck { 0.0 } else { k.w[2] };
+        let q = if up {
+            // A turn by a about ez: q = (cos a/2, 0, 0, sin a/2), a the heading of body x.
+            let a = k.r[1][0].atan2(k.r[0][0]);
+            [(0.5 * a).cos(), 0.0, 0.0, (0.5 * a).sin()]
+        } else {
+            // A half turn about the horizontal (cos b, sin b, 0) maps body x to heading 2b.
+            let b = 0.5 * k.r[1][0].atan2(k.r[0][0]);
+            [0.0, b.cos(), b.sin(), 0.0]
+        };
+        // The sign of the quaternion kept (the heading's wrap at pi would flip it).
+        let same = q.iter().zip(&y[..4]).map(|(a, b)| a * b).sum::<f64>() >= 0.0;
+        y[..4].copy_from_slice(&q.map(|x| if same { x } else { -x }));
+        let u = if up { 1.0 } else { -1.0 };
+        y[4] = 0.0;
+        y[5] = 0.0;
+        y[6] = u * wz;
+        let (z, minor) = match *self.part(i) {
+            Shape::Torus { z, minor, .. } => (z, minor),
+            _ => (0.0, 0.0),
+        };
+        y[9] = minor - z * u;
+        if stuck {
+            y[10] = 0.0;
+            y[11] = 0.0;
+        }
+        y[12] = 0.0;
+        let after = self.kinetic_energy(y) + self.m * self.g * y[9];
+        self.shed_energy(y, after - before);
+    }
+
+    /// The contact modes of the parts in `cand` (touching, not separating) that the
+    /// complementarity conditions allow: the largest set whose normal forces push and whose
+    /// other candidates' gaps do not close; a part whose sliding measure is below `eps`
+    /// sticks where its friction can hold it. `prev` gives the slip directions to keep.
+    pub fn resolve(&self, y: &mut [f64; DIM], cand: u8, prev: &Contacts, eps: f64) -> Contacts {
+        self.resolve_jam(y, cand, prev, eps).0
+    }
+
+    /// [`Self::resolve`], and whether it took a tangential impact.
+    pub fn resolve_jam(
+        &self,
+        y: &mut [f64; DIM],
+        cand: u8,
+        prev: &Contacts,
+        eps: f64,
+    ) -> (Contacts, bool) {
+        if let Some(c) = self.resolve_at(y, cand, prev, eps) {
+            return (c, false);
+        }
+        // No set is consistent (the Painleve case: sliding would need the floor to pull while
+        // the contact is pressed into it): a tangential impact, the impulse that stops the
+        // candidates' slip, then the modes again.
+        if matches!(self.friction, Friction::Viscous { .. }) {
+            // Viscous friction: each candidate's slip decays through its own impact.
+            for i in 0..self.parts.n {
+                if cand & (1 << i) != 0 {
+                    if let Some(yi) = self.jam_impact(y, i) {
+                        *y = yi;
+                    }
+                }
+            }
+        } else {
+            let (yi, _) = self.impact(y, cand, [0.0; MAX_PARTS]);
+            *y = yi;
+        }
+        let c = self.resolve_at(y, cand, prev, eps).unwrap_or_else(|| {
+            let mut c = Contacts::NONE;
+            for i in 0..self.parts.n {
+                if cand & (1 << i) != 0 {
+                    c.mode[i] = Mode::Slip;
+                }
+            }
+            c
+        });
+        (c, true)
+    }
+
+    /// [`Self::resolve`] without the impact: None where no set (the empty one included) is
+    /// consistent.
+    fn resolve_at(&self, y: &[f64; DIM], cand: u8, prev: &Contacts, eps: f64) -> Option<Contacts> {
+        let n = self.parts.n;
+        let k = self.kin(y);
+        let mut base = Contacts {
+            mode: [Mode::Flight; MAX_PARTS],
+            dir: prev.dir,
+            flat: false,
+            creep: prev.creep,
+        };
+        let mut want = [Mode::Flight; MAX_PARTS];
+        for i in 0..n {
+            if cand & (1 << i) == 0 {
+                continue;
+            }
+            let p = self.part(i);
+            let vp = p.point_velocity(k.v, k.w, k.e3);
+            let sp = (vp[0] * vp[0] + vp[1] * vp[1]).sqrt();
+            if sp > 0.0 {
+                base.dir[i] = [vp[0] / sp, vp[1] / sp];
+            }
+            want[i] = if self.friction.can_stick() && self.slide_measure(vp, k.w[2]) <= eps {
+                Mode::Roll
+            } else {
+                Mode::Slip
+            };
+        }
+        // Subsets of the candidates, largest first.
+        let mut subsets: Vec<u8> = (0..=cand).filter(|s| s & !cand == 0).collect();
+        subsets.sort_by_key(|s| std::cmp::Reverse(s.count_ones()));
+        let mut dy = [0.0; DIM];
+        for s in subsets {
+            let mut c = base;
+            for i in 0..n {
+                if s & (1 << i) != 0 {
+                    c.mode[i] = want[i];
+                }
+            }
+            let f = self.demote(&mut c, y, s, &mut dy);
+            let push = (0..n).all(|i| c.mode[i] == Mode::Flight || f.n[i] >= 0.0);
+            let open = (0..n).all(|i| {
+                cand & (1 << i) == 0
+                    || c.mode[i] != Mode::Flight
+                    || self.gap_acceleration(i, y, &dy) >= 0.0
+            });
+            if push && open {
+                return Some(c);
+            }
+        }
+        None
+    }
+
+    /// The sticking parts of `movable` (bit mask) whose friction leaves its cone or ellipse
+    /// slide against it, one at a time, the furthest outside first (the forces change with
+    /// every part set sliding), until every one left holds. The forces of the modes reached;
+    /// `dy` their state derivative.
+    pub fn demote(
+        &self,
+        c: &mut Contacts,
+        y: &[f64; DIM],
+        movable: u8,
+        dy: &mut [f64; DIM],
+    ) -> Forces {
+        loop {
+            let f = self.dynamics(c, y, dy);
+            let worst = (0..self.parts.n)
+                .filter(|&j| movable & (1 << j) != 0 && c.mode[j] == Mode::Roll)
+                .map(|j| (j, self.stick_margin(&f, j)))
+                .min_by(|a, b| a.1.total_cmp(&b.1));
+            match worst {
+                Some((j, margin)) if margin < 0.0 => c.slide_against(j, &f),
+                _ => return f,
+            }
+        }
+    }
+
+    /// The parts touching the floor at a state (gap within `tol` of zero) and not
+    /// separating (gap rate at most `vtol`), as a bit mask.
+    pub fn touching(&self, y: &[f64; DIM], tol: f64, vtol: f64) -> u8 {
+        let k = self.kin(y);
+        (0..self.parts.n).fold(0, |acc, i| {
+            let p = self.part(i);
+            let on = p.gap(k.zg, k.e3) <= tol && p.gap_rate(k.v[2], k.w, k.e3) <= vtol;
+            acc | (u8::from(on) << i)
+        })
+    }
+
+    /// Puts a state on the constraints of its touching parts: G's height and vertical
+    /// velocity from the parts touching (their mean where several touch), and its whole
+    /// velocity from the first sticking part. Normalises the quaternion.
+    pub fn project(&self, c: &Contacts, y: &mut [f64; DIM]) {
+        if c.flat {
+            if let Some(i) = (0..self.parts.n).find(|&j| c.mode[j] != Mode::Flight) {
+                self.flat_project(i, y, c.mode[i] == Mode::Roll);
+                return;
+            }
+        }
+        let nq = (y[0] * y[0] + y[1] * y[1] + y[2] * y[2] + y[3] * y[3]).sqrt();
+        for v in y.iter_mut().take(4) {
+            *v /= nq;
+        }
+        self.fix_tilt(c, y);
+        let on = (0..self.parts.n).filter(|&i| c.mode[i] != Mode::Flight);
+        if on.clone().next().is_none() {
+            return;
+        }
+        let stick = (0..self.parts.n).find(|&i| c.mode[i] == Mode::Roll);
+        // The velocity's correction never creates energy: the kinetic energy it would add is
+        // taken back by scaling the velocities (the constraints are homogeneous in them); the
+        // kinetic energy it removes is counted as dissipated.
+        let before = self.kinetic_energy(y);
+        let mut k = self.kin(y);
+        if stick.is_some() && self.friction.rbar() > 0.0 && k.w[2] != 0.0 {
+            // Sticking over a patch neither slides nor drills (D = 0): the drilling rate left
+            // at the switch (below the tolerance over rbar) and its drift are removed.
+            let wb = k.to_body([k.w[0], k.w[1], 0.0]);
+            y[4..7].copy_from_slice(&wb);
+            k = self.kin(y);
+        }
+        let (mut h, mut vz, mut count) = (0.0, 0.0, 0.0);
+        for i in on {
+            let p = self.part(i);
+            h -= p.arm(k.e3)[2];
+            vz -= p.gap_rate(0.0, k.w, k.e3);
+            count += 1.0;
+        }
+        y[9] = h / count;
+        y[12] = vz / count;
+        if let Some(i) = stick {
+            let v = scale(-1.0, cross(k.w, self.part(i).arm(k.e3)));
+            y[10] = v[0];
+            y[11] = v[1];
+        }
+        self.shed_energy(y, self.kinetic_energy(y) - before);
+    }
+
+    /// Two parts touching at once fix the tilt: their gaps `z_G + z u - phi(u)` are both zero,
+    /// so `(z_i - z_j) u - phi_i(u) + phi_j(u) = 0` (for two spheres
+    /// `u = (r_i - r_j) / (z_i - z_j)`), solved by Newton's method from the current tilt.
+    /// Puts the orientation on that tilt (a rotation about the horizontal axis `ez x e3`) and
+    /// removes the tilting rate (the angular velocity's component along that axis); the
+    /// kinetic energy that removal takes, of the order of the integration's error, is added
+    /// to the dissipated energy.
+    fn fix_tilt(&self, c: &Contacts, y: &mut [f64; DIM]) {
+        let mut on = (0..self.parts.n).filter(|&i| c.mode[i] != Mode::Flight);
+        let (Some(i), Some(j)) = (on.next(), on.next()) else {
+            return;
+        };
+        let (pi, pj) = (self.part(i), self.part(j));
+        let k = self.kin(y);
+        let mut u = k.e3[2].clamp(-1.0, 1.0);
+        for _ in 0..8 {
+            let ((fi, di, _), (fj, dj, _)) = (pi.profile(u), pj.profile(u));
+            let slope = pi.z() - pj.z() - di + dj;
+            if slope.abs() <= 1e-12 * self.reach() {
+                return;
+            }
+            let step = ((pi.z() - pj.z()) * u - fi + fj) / slope;
+            u -= step;
+            if u.is_nan() || u.abs() >= 1.0 {
+                return;
+            }
+            if step.abs() <= 1e-15 {
+                break;
+            }
+        }
+        let axis = cross(EZ, k.e3);
+        let s = dot(axis, axis).sqrt();
+        if s <= 1e-12 {
+            return;
+        }
+        let n = scale(1.0 / s, axis);
+        let delta = u.acos() - k.e3[2].clamp(-1.0, 1.0).acos();
+        let q = Quat::from_axis_angle(n, delta).hamilton(k.q).normalized();
+        y[..4].copy_from_slice(&q.0);
+        let before = self.kinetic_energy(y);
+        let w = add(k.w, scale(-dot(k.w, n), n));
+        let k1 = self.kin(y);
+        let wb = k1.to_body(w);
+        y[4..7].copy_from_slice(&wb);
+        y[13] += (before - self.kinetic_energy(y)).max(0.0);
+    }
+}

@@ -1,0 +1,1007 @@
+//! The contact forces and the equations of motion of a top on a floor, with any set of
+//! parts touching, each sliding or sticking (theory: several parts).
+//!
+//! Everything is in the space frame. The unknown contact forces are solved for jointly: each
+//! touching part adds its normal force N_i (the gap's acceleration is zero), a sliding part
+//! carries its friction per unit N_i (Coulomb, viscous, or Coulomb-Contensou with its drilling
+//! torque), a sticking part adds its tangential force (the slip's rate is zero) and, under
+//! Coulomb-Contensou friction, its drilling torque (the drilling rate's rate is zero). That is
+//! one linear system of at most 4 unknowns per part, solved by Gaussian elimination. Which
+//! parts touch is decided where it changes (at touchdown, after an impact, at the start) by
+//! the complementarity conditions: every touching part pushes (N_i >= 0), every part at zero
+//! gap that does not touch separates (its gap's acceleration >= 0).
+//!
+//! Hand-written: the systems are tiny (at most 16 unknowns, mostly 1 or 2) and solved at
+//! every right-hand side; a general linear-algebra crate adds allocation and dispatch that
+//! cost more than the arithmetic here.
+
+// Index loops: the systems' rows, columns and parts are addressed together by position.
+#![allow(clippy::needless_range_loop)]
+
+use super::parts::{Shape, MAX_PARTS};
+use super::{add, scale, solve3, Contacts, Friction, Mode, PlayTop, DIM};
+use crate::rotation::{cross, dot, Quat};
+
+pub(super) const EX: [f64; 3] = [1.0, 0.0, 0.0];
+pub(super) const EY: [f64; 3] = [0.0, 1.0, 0.0];
+pub(super) const EZ: [f64; 3] = [0.0, 0.0, 1.0];
+pub(super) const ZERO: [f64; 3] = [0.0; 3];
+
+/// The matrix whose columns are `cols` (rows of `cols` as columns).
+pub(super) fn transpose(cols: [[f64; 3]; 3]) -> [[f64; 3]; 3] {
+    [
+        [cols[0][0], cols[1][0], cols[2][0]],
+        [cols[0][1], cols[1][1], cols[2][1]],
+        [cols[0][2], cols[1][2], cols[2][2]],
+    ]
+}
+/// The most unknowns of one system: four per part.
+pub(super) const MAXU: usize = 4 * MAX_PARTS;
+
+/// The equations a set of contacts is integrated with: the fast kernels of the common
+/// phases (no part touching, one part sliding, one part sticking, a ring lying flat), else
+/// the joint system of every touching part's unknowns (its size: each sliding part one, each
+/// sticking part three, four under Coulomb-Contensou friction).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Kernel {
+    /// No part touches.
+    Flight,
+    /// Part i alone touches, sliding.
+    OneSlip(usize),
+    /// Part i alone touches, sticking.
+    OneStick(usize),
+    /// A ring lies flat.
+    Flat,
+    /// The joint system of this many unknowns.
+    System(usize),
+}
+
+impl Kernel {
+    /// The kernel of the contacts `c` of `top`.
+    pub(crate) fn of(top: &PlayTop, c: &Contacts) -> Kernel {
+        if c.flat {
+            return Kernel::Flat;
+        }
+        let n = top.parts.n;
+        let per_stick = if top.friction.rbar() > 0.0 { 4 } else { 3 };
+        let (mut touching, mut first, mut unknowns) = (0, 0, 0);
+        for i in (0..n).rev() {
+            match c.mode[i] {
+                Mode::Flight => continue,
+                Mode::Slip => unknowns += 1,
+                Mode::Roll => unknowns += per_stick,
+            }
+            touching += 1;
+            first = i;
+        }
+        match (touching, c.mode[first]) {
+            (0, _) => Kernel::Flight,
+            (1, Mode::Slip) => Kernel::OneSlip(first),
+            (1, Mode::Roll) => Kernel::OneStick(first),
+            _ => Kernel::System(unknowns),
+        }
+    }
+}
+
+/// Kinematics of a state in the space frame.
+#[derive(Debug, Clone, Copy)]
+pub struct Kin {
+    /// Orientation as integrated.
+    pub q: Quat,
+    /// Rotation body -> space of `q / |q|` (row-major).
+    pub r: [[f64; 3]; 3],
+    /// Body angular velocity.
+    pub wb: [f64; 3],
+    /// Space angular velocity.
+    pub w: [f64; 3],
+    /// Figure axis (space).
+    pub e3: [f64; 3],
+    /// Velocity of G.
+    pub v: [f64; 3],
+    /// Height of G.
+    pub zg: f64,
+}
+
+impl Kin {
+    #[inline(always)]
+    pub(super) fn to_space(self, v: [f64; 3]) -> [f64; 3] {
+        super::to_space(&self.r, v)
+    }
+    #[inline(always)]
+    pub(super) fn to_body(self, v: [f64; 3]) -> [f64; 3] {
+        super::to_body(&self.r, v)
+    }
+}
+
+/// The contact forces of a state in a [`Contacts`], per part.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Forces {
+    /// Normal force (N); 0 for a part not touching.
+    pub n: [f64; MAX_PARTS],
+    /// Tangential force (space frame, horizontal; N).
+    pub ft: [[f64; 2]; MAX_PARTS],
+    /// Drilling torque about the vertical (N m).
+    pub mz: [f64; MAX_PARTS],
+    /// A sliding part's own coefficient: its gap's acceleration per unit of its normal
+    /// force, friction included (1/kg). Zero or negative: the Painleve case (sliding has no
+    /// consistent normal force).
+    pub den: [f64; MAX_PARTS],
+}
+
+/// A linear system in contact forces (or impulses): columns are wrenches (force and torque
+/// about G, space frame), rows measure the response of a material point's velocity
+/// (`jv . dv + jw . dw`), the right-hand side what the row must change by.
+pub(super) struct System<const U: usize> {
+    pub(super) n: usize,
+    pub(super) force: [[f64; 3]; U],
+    pub(super) torque: [[f64; 3]; U],
+    pub(super) jv: [[f64; 3]; U],
+    pub(super) jw: [[f64; 3]; U],
+    pub(super) rhs: [f64; U],
+    /// The (dv, dw) each wrench makes ([`System::responses`]).
+    pub(super) dv: [[f64; 3]; U],
+    pub(super) dw: [[f64; 3]; U],
+    /// The unknowns and the matrix's diagonal ([`System::solve`]).
+    pub(super) x: [f64; U],
+    pub(super) diag: [f64; U],
+    /// Each unknown's weight in the norm a redundant system's solution minimises: 1 for a
+    /// force, 1/rbar^2 for a drilling torque (the friction ellipse's metric).
+    pub(super) weight: [f64; U],
+    /// A redundant system's null space: `m` vectors (the solutions are `x + basis c`).
+    pub(super) basis: [[f64; U]; U],
+    pub(super) m: usize,
+}
+
+impl<const U: usize> System<U> {
+    #[inline(always)]
+    pub(super) fn new() -> System<U> {
+        System {
+            n: 0,
+            force: [ZERO; U],
+            torque: [ZERO; U],
+            jv: [ZERO; U],
+            jw: [ZERO; U],
+            rhs: [0.0; U],
+            dv: [ZERO; U],
+            dw: [ZERO; U],
+            x: [0.0; U],
+            diag: [0.0; U],
+            weight: [1.0; U],
+            basis: [[0.0; U]; U],
+            m: 0,
+        }
+    }
+
+    /// Adds an unknown (its wrench) with its row.
+    #[inline(always)]
+    pub(super) fn push(
+        &mut self,
+        force: [f64; 3],
+        torque: [f64; 3],
+        jv: [f64; 3],
+        jw: [f64; 3],
+        rhs: f64,
+    ) {
+        let i = self.n;
+        self.force[i] = force;
+        self.torque[i] = torque;
+        self.jv[i] = jv;
+        self.jw[i] = jw;
+        self.rhs[i] = rhs;
+        self.n += 1;
+    }
+
+    /// The unknowns, and the matrix's diagonal; `resp(f, t)` is the (dv, dw) a wrench makes.
+    /// The (dv, dw) each unknown's wrench makes; `resp(f, t)` gives one.
+    #[inline(always)]
+    pub(super) fn responses(&mut self, resp: impl Fn([f64; 3], [f64; 3]) -> ([f64; 3], [f64; 3])) {
+        for c in 0..self.n {
+            (self.dv[c], self.dw[c]) = resp(self.force[c], self.torque[c]);
+        }
+    }
+
+    /// The unknowns and the matrix's diagonal, from the wrenches' responses.
+    #[inline(always)]
+    pub(super) fn solve(&mut self) {
+        let n = self.n;
+        let (dv, dw) = (&self.dv, &self.dw);
+        if n == 1 {
+            // One unknown (one part sliding): no elimination.
+            let a = dot(self.jv[0], dv[0]) + dot(self.jw[0], dw[0]);
+            self.diag[0] = a;
+            self.x[0] = if a != 0.0 { self.rhs[0] / a } else { 0.0 };
+            return;
+        }
+        let (x, diag) = (&mut self.x, &mut self.diag);
+        let mut a = [[0.0; U]; U];
+        for c in 0..n {
+            for r in 0..n {
+                a[r][c] = dot(self.jv[r], dv[c]) + dot(self.jw[r], dw[c]);
+            }
+        }
+        let mut big = 0.0f64;
+        for i in 0..n {
+            diag[i] = a[i][i];
+            for j in 0..n {
+                big = big.max(a[i][j].abs());
+            }
+        }
+        let mut b = self.rhs;
+        // Row echelon form by Gaussian elimination with partial pivoting. A column without a
+        // pivot (below 1e-13 of the matrix's size) belongs to a redundant constraint: two
+        // sticking parts fix more than the body's freedoms (a cone rolling on its tip and its
+        // rim), and the forces along the line between them are statically indeterminate.
+        let mut pivot_col = [usize::MAX; U];
+        let mut free = [false; U];
+        let mut rows = 0;
+        for k in 0..n {
+            let p = (rows..n)
+                .max_by(|&i, &j| a[i][k].abs().total_cmp(&a[j][k].abs()))
+                .unwrap_or(rows);
+            if rows == n || a[p][k].abs() <= 1e-13 * big {
+                free[k] = true;
+                continue;
+            }
+            a.swap(rows, p);
+            b.swap(rows, p);
+            for i in rows + 1..n {
+                let f = a[i][k] / a[rows][k];
+                if f != 0.0 {
+                    for j in k..n {
+                        a[i][j] -= f * a[rows][j];
+                    }
+                    b[i] -= f * b[rows];
+                }
+            }
+            pivot_col[rows] = k;
+            rows += 1;
+        }
+        // The solution with the free unknowns at zero, by back substitution.
+        let back = |x: &mut [f64; U], b: &[f64; U]| {
+            for r in (0..rows).rev() {
+                let k = pivot_col[r];
+                let s: f64 = (k + 1..n).map(|j| a[r][j] * x[j]).sum();
+                x[k] = (b[r] - s) / a[r][k];
+            }
+        };
+        *x = [0.0; U];
+        back(x, &b);
+        if rows == n {
+            return;
+        }
+        // Redundant: of all the solutions, the one of least sum_i w_i x_i^2 (the weights
+        // make a drilling torque count as the force it takes of the friction ellipse). The
+        // null space's basis: one vector per free unknown (it at 1, the other free ones at
+        // 0, the pivots from the homogeneous rows).
+        let basis = &mut self.basis;
+        let mut m = 0;
+        for f in 0..n {
+            if free[f] {
+                basis[m][f] = 1.0;
+                back(&mut basis[m], &[0.0; U]);
+                m += 1;
+            }
+        }
+        self.m = m;
+        let w = &self.weight;
+        // (N^T W N) c = -N^T W x, then x += N c.
+        let mut g = [[0.0; U]; U];
+        let mut h = [0.0; U];
+        for i in 0..m {
+            for j in 0..m {
+                g[i][j] = (0..n).map(|r| basis[i][r] * w[r] * basis[j][r]).sum();
+            }
+            h[i] = -(0..n).map(|r| basis[i][r] * w[r] * x[r]).sum::<f64>();
+        }
+        // A small symmetric positive definite system: elimination without pivoting.
+        for k in 0..m {
+            for i in k + 1..m {
+                let f = g[i][k] / g[k][k];
+                for j in k..m {
+                    g[i][j] -= f * g[k][j];
+                }
+                h[i] -= f * h[k];
+            }
+        }
+        let mut c = [0.0; U];
+        for k in (0..m).rev() {
+            let s: f64 = (k + 1..m).map(|j| g[k][j] * c[j]).sum();
+            c[k] = (h[k] - s) / g[k][k];
+        }
+        for i in 0..m {
+            for r in 0..n {
+                x[r] += c[i] * basis[i][r];
+            }
+        }
+    }
+}
+
+/// What each unknown of a contact system is.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Unknown {
+    /// A sliding part's normal force, its friction per unit N given.
+    SlipN {
+        part: usize,
+        ft: [f64; 2],
+        mz: f64,
+        /// The friction's power per unit N at the part's slip and drilling rates.
+        power: f64,
+    },
+    /// A sticking part's normal force.
+    StickN(usize),
+    /// A sticking part's tangential force along x or y.
+    StickT(usize, usize),
+    /// A sticking part's drilling torque (Coulomb-Contensou).
+    StickM(usize),
+}
+
+impl PlayTop {
+    /// The space-frame kinematics of a state.
+    #[inline]
+    pub fn kin(&self, y: &[f64; DIM]) -> Kin {
+        let q = Quat([y[0], y[1], y[2], y[3]]);
+        let r = q.unit_matrix();
+        let wb = [y[4], y[5], y[6]];
+        let w = super::to_space(&r, wb);
+        Kin {
+            q,
+            r,
+            wb,
+            w,
+            e3: [r[0][2], r[1][2], r[2][2]],
+            v: [y[10], y[11], y[12]],
+            zg: y[9],
+        }
+    }
+
+    /// The parts in use.
+    pub(super) fn part(&self, i: usize) -> &Shape {
+        &self.parts.shape[i]
+    }
+
+    /// The change of G's velocity and of the space angular velocity an impulse (or force)
+    /// `f` with moment `t` about G makes (per unit time for a force).
+    #[inline(always)]
+    pub(super) fn response(&self, k: &Kin, f: [f64; 3], t: [f64; 3]) -> ([f64; 3], [f64; 3]) {
+        (scale(1.0 / self.m, f), self.inv_inertia_space(k, t))
+    }
+
+    /// `J^-1 t` in the space frame: the symmetric top's inverse inertia about G,
+    /// `t / A + (1/C - 1/A) (e3 . t) e3` (no rotation to the body frame and back).
+    #[inline(always)]
+    fn inv_inertia_space(&self, k: &Kin, t: [f64; 3]) -> [f64; 3] {
+        let inv_a = 1.0 / self.a;
+        let kappa = (1.0 / self.c - inv_a) * dot(k.e3, t);
+        [
+            inv_a * t[0] + kappa * k.e3[0],
+            inv_a * t[1] + kappa * k.e3[1],
+            inv_a * t[2] + kappa * k.e3[2],
+        ]
+    }
+
+    /// Contact forces and the state derivative with the parts in `c` (see the module's
+    /// notes): the kernel [`Kernel::of`] chooses, run.
+    pub fn dynamics(&self, c: &Contacts, y: &[f64; DIM], dy: &mut [f64; DIM]) -> Forces {
+        let mut out = Forces::default();
+        self.rates(Kernel::of(self, c), c, y, dy, &mut out);
+        out
+    }
+
+    /// [`Self::dynamics`] by the kernel `kernel` (chosen once per phase), the forces written
+    /// to `out` (only the touching parts' entries: a phase's cache keeps the others at zero).
+    #[inline(always)]
+    pub(crate) fn rates(
+        &self,
+        kernel: Kernel,
+        c: &Contacts,
+        y: &[f64; DIM],
+        dy: &mut [f64; DIM],
+        out: &mut Forces,
+    ) {
+        match kernel {
+            Kernel::Flight => self.flight_rates(y, dy),
+            Kernel::OneSlip(i) => self.one_slip_rates(c, i, y, dy, out),
+            Kernel::OneStick(i) => self.one_stick_rates(i, y, dy, out),
+            Kernel::Flat => *out = self.flat_dynamics(c, y, dy),
+            Kernel::System(u) => match u {
+                0..=2 => self.dynamics_of::<2>(c, y, dy, out),
+                3 | 4 => self.dynamics_of::<4>(c, y, dy, out),
+                5..=8 => self.dynamics_of::<8>(c, y, dy, out),
+                _ => self.dynamics_of::<MAXU>(c, y, dy, out),
+            },
+        }
+    }
+
+    /// [`Self::dynamics`] with systems of at most `U` unknowns.
+    #[inline(always)]
+    fn dynamics_of<const U: usize>(
+        &self,
+        c: &Contacts,
+        y: &[f64; DIM],
+        dy: &mut [f64; DIM],
+        out: &mut Forces,
+    ) {
+        let k = self.kin(y);
+        let (wd0, res_n, res_0) = self.free_terms(&k);
+        let vd0 = [0.0, 0.0, -self.g];
+        let mut sys = System::<U>::new();
+        let mut what = [Unknown::StickN(0); U];
+        self.contact_system(c, &k, res_n, vd0, wd0, &mut sys, &mut what);
+        sys.responses(|f, t| self.response(&k, f, t));
+        sys.solve();
+        if sys.m > 0 {
+            self.most_margin(&mut sys, &what);
+        }
+        let (x, diag, dvs, dws) = (&sys.x, &sys.diag, &sys.dv, &sys.dw);
+        let (mut vd, mut wd) = (vd0, wd0);
+        let mut n_total = 0.0;
+        let mut p_friction = 0.0;
+        for j in 0..sys.n {
+            vd = add(vd, scale(x[j], dvs[j]));
+            wd = add(wd, scale(x[j], dws[j]));
+            match what[j] {
+                Unknown::SlipN {
+                    part,
+                    ft,
+                    mz,
+                    power,
+                } => {
+                    let n = x[j];
+                    out.n[part] = n;
+                    out.ft[part] = [n * ft[0], n * ft[1]];
+                    out.mz[part] = n * mz;
+                    out.den[part] = diag[j];
+                    n_total += n;
+                    p_friction += n * power;
+                }
+                Unknown::StickN(part) => {
+                    out.n[part] = x[j];
+                    n_total += x[j];
+                }
+                Unknown::StickT(part, axis) => out.ft[part][axis] = x[j],
+                Unknown::StickM(part) => out.mz[part] = x[j],
+            }
+        }
+        let p = p_friction + self.resistance_power(&k, n_total, res_n, res_0);
+        Self::write_rates(&k, vd, wd, p, dy);
+    }
+
+    /// The angular acceleration with no contact force (space frame): Euler's term
+    /// `J^-1 (-w x J w) = ((A - C) / A) (w . e3) (w x e3)` of the symmetric top, plus `J^-1`
+    /// of the resistance torque that does not scale with N; and the resistance torques per
+    /// unit N and not (space frame).
+    #[inline(always)]
+    fn free_terms(&self, k: &Kin) -> ([f64; 3], [f64; 3], [f64; 3]) {
+        let e = (self.a - self.c) / self.a * dot(k.w, k.e3);
+        let we = cross(k.w, k.e3);
+        let euler = [e * we[0], e * we[1], e * we[2]];
+        if !self.has_resistance() {
+            return (euler, ZERO, ZERO);
+        }
+        let (res_n, res_0) = self.resistance_at(k.w, EZ, self.parts.reach());
+        (add(euler, self.inv_inertia_space(k, res_0)), res_n, res_0)
+    }
+
+    /// The power the resistance torques take (W) with the total normal force `n_total`.
+    #[inline(always)]
+    fn resistance_power(&self, k: &Kin, n_total: f64, res_n: [f64; 3], res_0: [f64; 3]) -> f64 {
+        if self.has_resistance() {
+            dot(add(scale(n_total, res_n), res_0), k.w)
+        } else {
+            0.0
+        }
+    }
+
+    /// Writes the state derivative from the accelerations of G (`vd`) and of the rotation
+    /// (`wd`, space frame), and the dissipated power `p`.
+    #[inline(always)]
+    fn write_rates(k: &Kin, vd: [f64; 3], wd: [f64; 3], p: f64, dy: &mut [f64; DIM]) {
+        dy[..4].copy_from_slice(&k.q.half_times_pure(k.wb));
+        dy[4..7].copy_from_slice(&k.to_body(wd));
+        dy[7..10].copy_from_slice(&k.v);
+        dy[10..13].copy_from_slice(&vd);
+        dy[13] = -p;
+    }
+
+    /// The kernel of no part touching: free flight.
+    #[inline(always)]
+    fn flight_rates(&self, y: &[f64; DIM], dy: &mut [f64; DIM]) {
+        let k = self.kin(y);
+        let (wd0, res_n, res_0) = self.free_terms(&k);
+        let p = self.resistance_power(&k, 0.0, res_n, res_0);
+        Self::write_rates(&k, [0.0, 0.0, -self.g], wd0, p, dy);
+    }
+
+    /// The kernel of one part `i` touching and sliding (the common phase of every top on a
+    /// floor): one unknown, its normal force, from the gap's acceleration being zero.
+    #[inline(always)]
+    fn one_slip_rates(
+        &self,
+        c: &Contacts,
+        i: usize,
+        y: &[f64; DIM],
+        dy: &mut [f64; DIM],
+        out: &mut Forces,
+    ) {
+        let k = self.kin(y);
+        let (wd0, res_n, res_0) = self.free_terms(&k);
+        let p = self.part(i);
+        let arm = p.arm(k.e3);
+        let vp = add(k.v, cross(k.w, arm));
+        let (ft, mz) = self.friction_per_n(vp, k.w[2], c.dir[i], c.creep);
+        let f = [ft[0], ft[1], 1.0];
+        let t = add(add(cross(arm, f), [0.0, 0.0, mz]), res_n);
+        let dw = self.inv_inertia_space(&k, t);
+        let jw = cross(arm, EZ);
+        let den = 1.0 / self.m + dot(jw, dw);
+        let rhs = self.g - dot(jw, wd0) - p.gap_bias(k.w, k.e3);
+        let n = if den != 0.0 { rhs / den } else { 0.0 };
+        let nm = n / self.m;
+        let vd = [nm * f[0], nm * f[1], nm - self.g];
+        let wd = add(wd0, scale(n, dw));
+        let power = ft[0] * vp[0] + ft[1] * vp[1] + mz * k.w[2];
+        out.n[i] = n;
+        out.ft[i] = [n * ft[0], n * ft[1]];
+        out.mz[i] = n * mz;
+        out.den[i] = den;
+        let p_res = self.resistance_power(&k, n, res_n, res_0);
+        Self::write_rates(&k, vd, wd, n * power + p_res, dy);
+    }
+
+    /// The kernel of one part `i` touching and sticking: its contact force (and drilling
+    /// torque under Coulomb-Contensou friction) from the contact point's acceleration being
+    /// zero; the 3 x 3 (4 x 4) system of the point's response solved directly.
+    #[inline(always)]
+    fn one_stick_rates(&self, i: usize, y: &[f64; DIM], dy: &mut [f64; DIM], out: &mut Forces) {
+        let k = self.kin(y);
+        let (wd0, res_n, res_0) = self.free_terms(&k);
+        let p = self.part(i);
+        let arm = p.arm(k.e3);
+        let inv_m = 1.0 / self.m;
+        // Each unknown's angular response and its row's measure (arm x e_j).
+        let jw = [cross(arm, EX), cross(arm, EY), cross(arm, EZ)];
+        let dw = [
+            self.inv_inertia_space(&k, jw[0]),
+            self.inv_inertia_space(&k, jw[1]),
+            self.inv_inertia_space(&k, add(jw[2], res_n)),
+        ];
+        let bias = p.slip_bias(k.w, k.e3);
+        let rhs = [
+            -(dot(jw[0], wd0) + bias[0]),
+            -(dot(jw[1], wd0) + bias[1]),
+            self.g - dot(jw[2], wd0) - p.gap_bias(k.w, k.e3),
+        ];
+        let mut a = [[0.0; 3]; 3];
+        for r in 0..3 {
+            for col in 0..3 {
+                a[r][col] = dot(jw[r], dw[col]) + if r == col { inv_m } else { 0.0 };
+            }
+        }
+        let rb = self.friction.rbar();
+        let (x, mz) = if rb > 0.0 {
+            // The drilling torque's column and row: the rotation's response to ez, and the
+            // drilling rate's rate.
+            let dwm = self.inv_inertia_space(&k, EZ);
+            let col: [f64; 3] = core::array::from_fn(|r| dot(jw[r], dwm));
+            let row: [f64; 3] = core::array::from_fn(|j| dw[j][2]);
+            let (amm, rm) = (dwm[2], -wd0[2]);
+            // Eliminate the torque: (a - col row / amm) x = rhs - col rm / amm.
+            let mut s = a;
+            let mut b = rhs;
+            for r in 0..3 {
+                for j in 0..3 {
+                    s[r][j] -= col[r] * row[j] / amm;
+                }
+                b[r] -= col[r] * rm / amm;
+            }
+            let x = solve3(s, b);
+            let mz = (rm - dot(row, x)) / amm;
+            (x, mz)
+        } else {
+            (solve3(a, rhs), 0.0)
+        };
+        let mut wd = add(
+            wd0,
+            add(
+                scale(x[0], dw[0]),
+                add(scale(x[1], dw[1]), scale(x[2], dw[2])),
+            ),
+        );
+        if rb > 0.0 {
+            wd = add(wd, scale(mz, self.inv_inertia_space(&k, EZ)));
+        }
+        let vd = [inv_m * x[0], inv_m * x[1], inv_m * x[2] - self.g];
+        out.n[i] = x[2];
+        out.ft[i] = [x[0], x[1]];
+        out.mz[i] = mz;
+        let p_res = self.resistance_power(&k, x[2], res_n, res_0);
+        Self::write_rates(&k, vd, wd, p_res, dy);
+    }
+
+    /// The contact forces' system of the parts in `c` at the kinematics `k`, with the free
+    /// accelerations (vd0, wd0) and the resistance torque per unit N `res_n` (space).
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    fn contact_system<const U: usize>(
+        &self,
+        c: &Contacts,
+        k: &Kin,
+        res_n: [f64; 3],
+        vd0: [f64; 3],
+        wd0: [f64; 3],
+        sys: &mut System<U>,
+        what: &mut [Unknown; U],
+    ) {
+        let contensou = self.friction.rbar() > 0.0;
+        let free = |jv: [f64; 3], jw: [f64; 3]| dot(jv, vd0) + dot(jw, wd0);
+        for i in 0..self.parts.n {
+            let p = self.part(i);
+            if c.mode[i] == Mode::Flight {
+                continue;
+            }
+            let arm = p.arm(k.e3);
+            let jw_n = cross(arm, EZ);
+            let rhs_n = -(free(EZ, jw_n) + p.gap_bias(k.w, k.e3));
+            match c.mode[i] {
+                Mode::Flight => {}
+                Mode::Slip => {
+                    let vp = p.point_velocity(k.v, k.w, k.e3);
+                    let (ft, mz) = self.friction_per_n(vp, k.w[2], c.dir[i], c.creep);
+                    let f = [ft[0], ft[1], 1.0];
+                    let t = add(add(cross(arm, f), scale(mz, EZ)), res_n);
+                    let power = ft[0] * vp[0] + ft[1] * vp[1] + mz * k.w[2];
+                    what[sys.n] = Unknown::SlipN {
+                        part: i,
+                        ft,
+                        mz,
+                        power,
+                    };
+                    sys.push(f, t, EZ, jw_n, rhs_n);
+                }
+                Mode::Roll => {
+                    what[sys.n] = Unknown::StickN(i);
+                    sys.push(EZ, add(jw_n, res_n), EZ, jw_n, rhs_n);
+                    let bias = p.slip_bias(k.w, k.e3);
+                    for (axis, e) in [EX, EY].into_iter().enumerate() {
+                        let jw = cross(arm, e);
+                        what[sys.n] = Unknown::StickT(i, axis);
+                        sys.push(e, jw, e, jw, -(free(e, jw) + bias[axis]));
+                    }
+                    if contensou {
+                        what[sys.n] = Unknown::StickM(i);
+                        let rb = self.friction.rbar();
+                        sys.weight[sys.n] = 1.0 / (rb * rb);
+                        sys.push(ZERO, EZ, ZERO, EZ, -free(ZERO, EZ));
+                    }
+                }
+            }
+        }
+    }
+
+    /// A redundant system of sticking parts (two parts fix more than the body's freedoms,
+    /// and the forces along the line between them are statically indeterminate): where the
+    /// least-norm split leaves a part outside its cone, of the solutions, which all move the
+    /// body alike, the one whose smallest friction margin ([`Self::stick_margin`]) is
+    /// largest, so the parts stick wherever some split of the forces lets them. The margins are concave in the forces, their minimum too: a direct
+    /// search (Nelder and Mead) over the null space from the least-norm solution finds it.
+    fn most_margin<const U: usize>(&self, sys: &mut System<U>, what: &[Unknown; U]) {
+        let n = sys.n;
+        let worst = |x: &[f64; U]| -> f64 {
+            let mut f = Forces::default();
+            let mut sticks = [false; MAX_PARTS];
+            for j in 0..n {
+                match what[j] {
+                    Unknown::StickN(i) => {
+                        f.n[i] = x[j];
+                        sticks[i] = true;
+                    }
+                    Unknown::StickT(i, axis) => f.ft[i][axis] = x[j],
+                    Unknown::StickM(i) => f.mz[i] = x[j],
+                    Unknown::SlipN { .. } => {}
+                }
+            }
+            (0..MAX_PARTS)
+                .filter(|&i| sticks[i])
+                .map(|i| self.stick_margin(&f, i))
+                .fold(f64::INFINITY, f64::min)
+        };
+        let m = sys.m;
+        let x0 = sys.x;
+        let at = |c: &[f64; U]| -> [f64; U] {
+            let mut x = x0;
+            for (i, ci) in c.iter().enumerate().take(m) {
+                for r in 0..n {
+                    x[r] += ci * sys.basis[i][r];
+                }
+            }
+            x
+        };
+        // Where the least-norm split already holds every part, it is kept: the search is
+        // for the splits that hold where that one does not (the margins then jump, but only
+        // between positive values, so no event sees a false zero).
+        let start = worst(&x0);
+        if !start.is_finite() || start >= 0.0 {
+            return;
+        }
+        // The simplex: the least-norm point and a step along each null vector, a tenth of
+        // the forces' size in the weighted norm.
+        let size = (0..n)
+            .map(|r| sys.weight[r] * x0[r] * x0[r])
+            .sum::<f64>()
+            .sqrt()
+            .max(f64::MIN_POSITIVE);
+        let mut pts = [[0.0; U]; U];
+        let mut val = [0.0; U];
+        val[0] = -start;
+        for i in 0..m {
+            let len = (0..n)
+                .map(|r| sys.weight[r] * sys.basis[i][r] * sys.basis[i][r])
+                .sum::<f64>()
+                .sqrt();
+            pts[i + 1][i] = 0.1 * size / len.max(f64::MIN_POSITIVE);
+            val[i + 1] = -worst(&at(&pts[i + 1]));
+        }
+        let k = m + 1;
+        for _ in 0..200 * m {
+            // order: best (least -margin) first
+            let mut idx: [usize; U] = core::array::from_fn(|i| i);
+            idx[..k].sort_by(|&a, &b| val[a].total_cmp(&val[b]));
+            let (best, worst_i, second) = (idx[0], idx[k - 1], idx[k - 2]);
+            if val[worst_i] - val[best] <= 1e-13 * size {
+                break;
+            }
+            let mut cen = [0.0; U];
+            for &p in &idx[..k - 1] {
+                for d in 0..m {
+                    cen[d] += pts[p][d] / m as f64;
+                }
+            }
+            let towards = |f: f64| -> [f64; U] {
+                core::array::from_fn(|d| cen[d] + f * (pts[worst_i][d] - cen[d]))
+            };
+            let r = towards(-1.0);
+            let fr = -worst(&at(&r));
+            if fr < val[best] {
+                let e = towards(-2.0);
+                let fe = -worst(&at(&e));
+                (pts[worst_i], val[worst_i]) = if fe < fr { (e, fe) } else { (r, fr) };
+            } else if fr < val[second] {
+                (pts[worst_i], val[worst_i]) = (r, fr);
+            } else {
+                let cpt = towards(0.5);
+                let fc = -worst(&at(&cpt));
+                if fc < val[worst_i] {
+                    (pts[worst_i], val[worst_i]) = (cpt, fc);
+                } else {
+                    for &p in &idx[1..k] {
+                        for d in 0..m {
+                            pts[p][d] = pts[best][d] + 0.5 * (pts[p][d] - pts[best][d]);
+                        }
+                        val[p] = -worst(&at(&pts[p]));
+                    }
+                }
+            }
+        }
+        let best = (0..k)
+            .min_by(|&a, &b| val[a].total_cmp(&val[b]))
+            .unwrap_or(0);
+        if val[best] < -start {
+            sys.x = at(&pts[best]);
+        }
+    }
+
+    /// The gap's acceleration of part `i` from a state derivative `dy`.
+    pub fn gap_acceleration(&self, i: usize, y: &[f64; DIM], dy: &[f64; DIM]) -> f64 {
+        let k = self.kin(y);
+        let p = self.part(i);
+        let wd = k.to_space([dy[4], dy[5], dy[6]]);
+        dy[12] + dot(wd, cross(p.arm(k.e3), EZ)) + p.gap_bias(k.w, k.e3)
+    }
+
+    /// The equations of a ring lying flat (part `i` of `c`, the one touching): its plane on
+    /// the floor, it slides and spins about the vertical, `m dv/dt = F`, `C dw_z/dt = M_z`,
+    /// the normal force `m g` spread evenly over the rim of radius R (the moment the friction
+    /// makes about G is taken by the spread, which is not resolved). The friction law acts at
+    /// every point of the rim (Coulomb-Contensou with its own patch there): its force and
+    /// moment are the rim's mean over 64 points (closed forms for viscous friction: `F = -mu
+    /// N v`, `M_z = -mu N R^2 w_z`; for a rim spinning without sliding under Coulomb
+    /// friction, `M_z = -mu N R sign(w_z)`). A ring stuck flat (mode roll) rests.
+    pub fn flat_dynamics(&self, c: &Contacts, y: &[f64; DIM], dy: &mut [f64; DIM]) -> Forces {
+        let k = self.kin(y);
+        let i = (0..self.parts.n)
+            .find(|&j| c.mode[j] != Mode::Flight)
+            .unwrap_or(0);
+        let mut f = Forces::default();
+        *dy = [0.0; DIM];
+        let n = self.m * self.g;
+        f.n[i] = n;
+        f.den[i] = 1.0 / self.m;
+        if c.mode[i] == Mode::Roll {
+            return f;
+        }
+        let r = match *self.part(i) {
+            Shape::Torus { major, .. } => major,
+            _ => 0.0,
+        };
+        let (v, wz) = ([k.v[0], k.v[1]], k.w[2]);
+        let (mut fx, mut fy, mut mz) = (0.0, 0.0, 0.0);
+        match self.friction {
+            Friction::Frictionless => {}
+            Friction::Viscous { mu } => {
+                fx = -mu * n * v[0];
+                fy = -mu * n * v[1];
+                mz = -mu * n * r * r * wz;
+            }
+            _ => {
+                const NQ: usize = 64;
+                let w = n / NQ as f64;
+                for j in 0..NQ {
+                    let phi = (j as f64 + 0.5) * std::f64::consts::TAU / NQ as f64;
+                    let (sn, cs) = phi.sin_cos();
+                    let (rx, ry) = (r * cs, r * sn);
+                    let vp = [v[0] - wz * ry, v[1] + wz * rx, 0.0];
+                    let (ft, md) = self.friction_per_n(vp, wz, [0.0; 2], 0.0);
+                    fx += w * ft[0];
+                    fy += w * ft[1];
+                    mz += w * (rx * ft[1] - ry * ft[0] + md);
+                }
+            }
+        }
+        f.ft[i] = [fx, fy];
+        f.mz[i] = mz;
+        // Resistance torques about the vertical (the horizontal ones are taken by the floor).
+        let (res_n, res_0) = self.resistance_at(k.wb, k.to_body(EZ), self.reach());
+        let res = k.to_space(add(scale(n, res_n), res_0))[2];
+        let u = k.e3[2].signum();
+        dy[..4].copy_from_slice(&k.q.half_times_pure(k.wb));
+        dy[6] = u * (mz + res) / self.c;
+        dy[7] = v[0];
+        dy[8] = v[1];
+        dy[10] = fx / self.m;
+        dy[11] = fy / self.m;
+        dy[13] = -(fx * v[0] + fy * v[1] + (mz + res) * wz);
+        f
+    }
+
+    /// The gap's acceleration of part `i` in free flight (no contact force) at `y`.
+    pub fn free_gap_acceleration(&self, i: usize, y: &[f64; DIM]) -> f64 {
+        let mut dy = [0.0; DIM];
+        self.dynamics(&Contacts::NONE, y, &mut dy);
+        self.gap_acceleration(i, y, &dy)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn ball(friction: Friction, parts: &[Shape]) -> PlayTop {
+        PlayTop::with_parts(0.006, 8e-7, 7e-7, parts, 9.81, friction, 0.0, 0.0, 0.0, 0.0).unwrap()
+    }
+
+    /// A system whose matrix is `a` (unit wrenches, rows picking its entries), solved.
+    fn solved<const U: usize>(a: &[[f64; 3]], rhs: &[f64], weight: &[f64]) -> [f64; U] {
+        let mut sys = System::<U>::new();
+        for (c, &b) in rhs.iter().enumerate() {
+            let mut e = ZERO;
+            e[c] = 1.0;
+            sys.push(e, ZERO, ZERO, ZERO, b);
+            sys.weight[c] = weight[c];
+        }
+        for (r, row) in a.iter().enumerate() {
+            sys.jv[r] = *row; // a[r][c] = jv[r] . e_c
+        }
+        sys.responses(|f, t| (f, t));
+        sys.solve();
+        sys.x
+    }
+
+    /// A redundant column before a determined one: the pivot of the determined column is in
+    /// the row the redundant column passed (the elimination used to skip that row and leave
+    /// the determined unknown at 0).
+    #[test]
+    fn every_pivot_is_found_after_a_redundant_column() {
+        let a = [[0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [0.0, 0.0, 0.0]];
+        let x: [f64; 3] = solved(&a, &[1.0, 2.0, 0.0], &[1.0; 3]);
+        assert_eq!(x, [0.0, 1.0, 2.0]);
+    }
+
+    /// Of the solutions of a redundant system, the one of least weighted norm: x0 + x1 = 2
+    /// with weights (1, 3) gives x0 = 3/2, x1 = 1/2 (the minimum of x0^2 + 3 x1^2 on it).
+    #[test]
+    fn a_redundant_system_takes_its_least_weighted_norm_solution() {
+        let a = [[1.0, 1.0, 0.0], [1.0, 1.0, 0.0], [0.0, 0.0, 2.0]];
+        let x: [f64; 3] = solved(&a, &[2.0, 2.0, 1.0], &[1.0, 3.0, 1.0]);
+        assert!(
+            (x[0] - 1.5).abs() < 1e-14 && (x[1] - 0.5).abs() < 1e-14,
+            "{x:?}"
+        );
+        assert!((x[2] - 0.5).abs() < 1e-15);
+    }
+
+    /// Two sticking parts whose tangential forces along x only appear as their sum (the
+    /// statically indeterminate split), mu = 0.3, normal forces `n0`, `n1`, the sum `t`:
+    /// (the least-norm split, the null space's dimension, the split `most_margin` takes).
+    fn split(n0: f64, n1: f64, t: f64) -> ([f64; MAXU], usize, [f64; MAXU]) {
+        let top = ball(
+            Friction::Coulomb { mu: 0.3 },
+            &[Shape::Sphere {
+                radius: 0.01,
+                z: 0.0,
+            }],
+        );
+        let mut sys = System::<MAXU>::new();
+        let mut what = [Unknown::StickN(0); MAXU];
+        // unknowns N0, T0x, T0y, N1, T1x, T1y: unit wrenches in force (0..3) and torque (3..6)
+        let unit = |c: usize| {
+            let mut e = ZERO;
+            e[c % 3] = 1.0;
+            if c < 3 {
+                (e, ZERO)
+            } else {
+                (ZERO, e)
+            }
+        };
+        let kinds = [
+            Unknown::StickN(0),
+            Unknown::StickT(0, 0),
+            Unknown::StickT(0, 1),
+            Unknown::StickN(1),
+            Unknown::StickT(1, 0),
+            Unknown::StickT(1, 1),
+        ];
+        // rows: N0 = n0, T0y = 0, N1 = n1, T1y = 0, T0x + T1x = t (twice: redundant)
+        let rows: [(&[usize], f64); 6] = [
+            (&[0], n0),
+            (&[2], 0.0),
+            (&[3], n1),
+            (&[5], 0.0),
+            (&[1, 4], t),
+            (&[1, 4], t),
+        ];
+        for (c, kind) in kinds.into_iter().enumerate() {
+            let (f, t) = unit(c);
+            what[c] = kind;
+            let (cols, b) = rows[c];
+            let (mut jv, mut jw) = (ZERO, ZERO);
+            for &k in cols {
+                let (fk, tk) = unit(k);
+                jv = add(jv, fk);
+                jw = add(jw, tk);
+            }
+            sys.push(f, t, jv, jw, b);
+        }
+        sys.responses(|f, t| (f, t));
+        sys.solve();
+        let least_norm = sys.x;
+        top.most_margin(&mut sys, &what);
+        (least_norm, sys.m, sys.x)
+    }
+
+    /// Normal forces 1 and 3 N, the sum T = 1 N: the least-norm split, 0.5 N each, leaves
+    /// part 0 outside its cone (margin 0.3 - 0.5 N). The split of largest smallest margin
+    /// makes the margins equal, mu N0 - t0 = mu N1 - t1 with t0 + t1 = T: t0 = (T - mu (N1 -
+    /// N0)) / 2 = 0.2 N, margins 0.1 N each.
+    #[test]
+    fn an_indeterminate_split_takes_the_largest_smallest_margin() {
+        let (least_norm, m, x) = split(1.0, 3.0, 1.0);
+        assert_eq!(m, 1);
+        assert!((least_norm[1] - 0.5).abs() < 1e-14 && (least_norm[4] - 0.5).abs() < 1e-14);
+        assert!(
+            (x[1] - 0.2).abs() < 1e-9 && (x[4] - 0.8).abs() < 1e-9,
+            "{x:?}"
+        );
+        assert!((x[0] - 1.0).abs() < 1e-12 && (x[3] - 3.0).abs() < 1e-12);
+        assert!(x[2].abs() < 1e-12 && x[5].abs() < 1e-12);
+    }
+
+    /// Normal forces 2 and 3 N, T = 0.5 N: the least-norm split (0.25 N each, margins 0.35
+    /// and 0.65 N) holds both parts and is kept (no search on such right-hand sides).
+    #[test]
+    fn a_split_that_holds_is_kept() {
+        let (least_norm, m, x) = split(2.0, 3.0, 0.5);
+        assert_eq!(m, 1);
+        assert!((least_norm[1] - 0.25).abs() < 1e-14 && (least_norm[4] - 0.25).abs() < 1e-14);
+        assert_eq!(x, least_norm);
+    }
+}

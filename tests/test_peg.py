@@ -41,8 +41,6 @@ def same(a, b):
 def test_a_one_sphere_shape_is_the_classic_top_bit_for_bit():
     classic = PlayTop(0.015, 4e-6, 5e-6, s=0.003, rho=0.015)
     shaped = PlayTop(0.015, 4e-6, 5e-6, shape=[Sphere(0.015, z=-0.003)])
-    for top in (classic, shaped):
-        assert top._native.classic
     st = classic.state(theta=0.1, psi_dot=150.0)
     a = kreisel.simulate(classic, st, 2.0)
     b = kreisel.simulate(shaped, shaped.state(theta=0.1, psi_dot=150.0), 2.0)
@@ -66,13 +64,13 @@ def test_a_part_that_never_touches_changes_nothing():
     b = kreisel.simulate(two, lg_start(two), 1.0)
     same(a, b)
     assert not b.part_in_contact[:, 1].any()
-    # and against the one-sphere equations (another formulation), to the tolerance
+    # and the same motion under Coulomb friction, to the tolerance (the parts' touchdowns
+    # watched, the inner never found)
     classic = PlayTop(M, A, C, 0.003, 0.015, friction=Coulomb(0.3))
     shaped = PlayTop(M, A, C, shape=[BALL, inner], friction=Coulomb(0.3))
     te = np.linspace(0.0, 0.5, 11)
     c = kreisel.simulate(classic, lg_start(classic), 0.5, t_eval=te, rtol=1e-11, atol=1e-14)
     d = kreisel.simulate(shaped, lg_start(shaped), 0.5, t_eval=te, rtol=1e-11, atol=1e-14)
-    assert not shaped._native.classic
     np.testing.assert_allclose(d.u, c.u, atol=1e-7)
     np.testing.assert_allclose(d.omega, c.omega, rtol=1e-6, atol=1e-6)
 

@@ -161,7 +161,10 @@ def test_no_work_is_dissipated_while_rolling(coulomb_tippe):
     traj = coulomb_tippe
     roll = np.flatnonzero(traj.mode == "roll")
     assert len(roll) > 10
-    assert np.ptp(traj.dissipated[roll]) == 0.0
+    # No friction work: the dissipated energy moves only by the projection's booking of the
+    # integration's drift (the velocity put back on the rolling constraint), within the
+    # tolerance (rtol 1e-10) of the energy.
+    assert np.ptp(traj.dissipated[roll]) <= 1e-10 * traj.energy[0]
     assert np.max(traj.slip_speed[roll]) < 1e-12
     assert np.ptp(traj.energy[roll]) <= 1e-12 * traj.energy[0]
 

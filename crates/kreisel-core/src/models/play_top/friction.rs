@@ -121,12 +121,12 @@ impl PlayTop {
         dir: [f64; 2],
         creep: f64,
     ) -> ([f64; 2], f64) {
-        let sp = (vp[0] * vp[0] + vp[1] * vp[1]).sqrt();
         // Creeping (the measure at or below `creep`, a direction set): the full friction
         // against the force sticking would need.
         let creeping = |d: f64| creep > 0.0 && d <= creep && dir != [0.0; 2];
         match self.friction {
             Friction::Coulomb { mu } => {
+                let sp = (vp[0] * vp[0] + vp[1] * vp[1]).sqrt();
                 // (Point Coulomb friction keeps the direction of the slip above zero: its
                 // creep at the cone's edge follows the slip, and a direction fixed at the
                 // switch would make the force jump where the two part, at every step.)
@@ -136,9 +136,10 @@ impl PlayTop {
                     ([-mu * dir[0], -mu * dir[1]], 0.0)
                 }
             }
-            Friction::CoulombContensou { mu, .. } => {
-                let rb = self.friction.rbar();
-                let d = (sp * sp + rb * rb * wn * wn).sqrt();
+            Friction::CoulombContensou { mu, radius } => {
+                // (rbar from the arm's own radius: no call of the non-inlined `rbar`.)
+                let rb = 3.0 * std::f64::consts::PI * radius / 16.0;
+                let d = (vp[0] * vp[0] + vp[1] * vp[1] + rb * rb * wn * wn).sqrt();
                 if d > 0.0 && !creeping(d) {
                     ([-mu * vp[0] / d, -mu * vp[1] / d], -mu * rb * rb * wn / d)
                 } else {

@@ -341,7 +341,23 @@ impl PlayTop {
             y[10] = v[0];
             y[11] = v[1];
         }
-        self.shed_energy(y, self.kinetic_energy(y) - before);
+        let excess = self.kinetic_energy(y) - before;
+        if stick.is_none() && excess > 0.0 {
+            // Sliding parts leave G's horizontal velocity free: the excess is taken from the
+            // rotation and the vertical velocity it fixes (both scaled alike, the sliding
+            // constraints being linear in the rotation), so a frictionless top keeps its
+            // horizontal momentum exactly.
+            let free = 0.5 * self.m * (y[10] * y[10] + y[11] * y[11]);
+            let rest = self.kinetic_energy(y) - free;
+            if rest > excess {
+                let f = ((rest - excess) / rest).sqrt();
+                for i in [4, 5, 6, 12] {
+                    y[i] *= f;
+                }
+                return;
+            }
+        }
+        self.shed_energy(y, excess);
     }
 
     /// Two parts touching at once fix the tilt: their gaps `z_G + z u - phi(u)` are both zero,

@@ -398,12 +398,17 @@ impl PlayTop {
         dy: &mut [f64; DIM],
         out: &mut Forces,
     ) {
-        match kernel {
-            Kernel::Flight => self.flight_rates(y, dy),
-            Kernel::OneSlip(i) => self.one_slip_rates(c, i, y, dy, out),
-            Kernel::OneStick(i) => self.one_stick_rates(i, y, dy, out),
-            Kernel::Flat => *out = self.flat_dynamics(c, y, dy),
-            Kernel::System(u) => match u {
+        // The resistance torques compiled in or out once per call (not looked up at each use).
+        let res = self.has_resistance();
+        match (kernel, res) {
+            (Kernel::Flight, false) => self.flight_rates::<false>(y, dy),
+            (Kernel::Flight, true) => self.flight_rates::<true>(y, dy),
+            (Kernel::OneSlip(i), false) => self.one_slip_rates::<false>(c, i, y, dy, out),
+            (Kernel::OneSlip(i), true) => self.one_slip_rates::<true>(c, i, y, dy, out),
+            (Kernel::OneStick(i), false) => self.one_stick_rates::<false>(i, y, dy, out),
+            (Kernel::OneStick(i), true) => self.one_stick_rates::<true>(i, y, dy, out),
+            (Kernel::Flat, _) => *out = self.flat_dynamics(c, y, dy),
+            (Kernel::System(u), _) => match u {
                 0..=2 => self.dynamics_of::<2>(c, y, dy, out),
                 3 | 4 => self.dynamics_of::<4>(c, y, dy, out),
                 5..=8 => self.dynamics_of::<8>(c, y, dy, out),
@@ -422,7 +427,11 @@ impl PlayTop {
         out: &mut Forces,
     ) {
         let k = self.kin(y);
-        let (wd0, res_n, res_0) = self.free_terms(&k);
+        let (wd0, res_n, res_0) = if self.has_resistance() {
+            self.free_terms::<true>(&k)
+        } else {
+            self.free_terms::<false>(&k)
+        };
         let vd0 = [0.0, 0.0, -self.g];
         let mut sys = System::<U>::new();
         let mut what = [Unknown::StickN(0); U];
@@ -462,7 +471,7 @@ impl PlayTop {
                 Unknown::StickM(part) => out.mz[part] = x[j],
             }
         }
-        let p = p_friction + self.resistance_power(&k, n_total, res_n, res_0);
+        let p = p_friction + self.resistance_power::<true>(&k, n_total, res_n, res_0);
         Self::write_rates(&k, vd, wd, p, dy);
     }
 
@@ -471,11 +480,11 @@ impl PlayTop {
     /// of the resistance torque that does not scale with N; and the resistance torques per
     /// unit N and not (space frame).
     #[inline(always)]
-    fn free_terms(&self, k: &Kin) -> ([f64; 3], [f64; 3], [f64; 3]) {
+    fn free_terms<const RES: bool>(&self, k: &Kin) -> ([f64; 3], [f64; 3], [f64; 3]) {
         let e = (self.a - self.c) / self.a * dot(k.w, k.e3);
         let we = cross(k.w, k.e3);
         let euler = [e * we[0], e * we[1], e * we[2]];
-        if !self.has_resistance() {
+        if !RES {
             return (euler, ZERO, ZERO);
         }
         let (res_n, res_0) = self.resistance_at(k.w, EZ, self.parts.reach());
@@ -484,8 +493,14 @@ impl PlayTop {
 
     /// The power the resistance torques take (W) with the total normal force `n_total`.
     #[inline(always)]
-    fn resistance_power(&self, k: &Kin, n_total: f64, res_n: [f64; 3], res_0: [f64; 3]) -> f64 {
-        if self.has_resistance() {
+    fn resistance_power<const RES: bool>(
+        &self,
+        k: &Kin,
+        n_total: f64,
+        res_n: [f64; 3],
+        res_0: [f64; 3],
+    ) -> f64 {
+        if RES {
             dot(add(scale(n_total, res_n), res_0), k.w)
         } else {
             0.0
@@ -505,17 +520,17 @@ impl PlayTop {
 
     /// The kernel of no part touching: free flight.
     #[inline(always)]
-    fn flight_rates(&self, y: &[f64; DIM], dy: &mut [f64; DIM]) {
+    fn flight_rates<const RES: bool>(&self, y: &[f64; DIM], dy: &mut [f64; DIM]) {
         let k = self.kin(y);
-        let (wd0, res_n, res_0) = self.free_terms(&k);
-        let p = self.resistance_power(&k, 0.0, res_n, res_0);
+        let (wd0, res_n, res_0) = self.free_terms::<RES>(&k);
+        let p = self.resistance_power::<RES>(&k, 0.0, res_n, res_0);
         Self::write_rates(&k, [0.0, 0.0, -self.g], wd0, p, dy);
     }
 
     /// The kernel of one part `i` touching and sliding (the common phase of every top on a
     /// floor): one unknown, its normal force, from the gap's acceleration being zero.
     #[inline(always)]
-    fn one_slip_rates(
+    fn one_slip_rates<const RES: bool>(
         &self,
         c: &Contacts,
         i: usize,
@@ -524,7 +539,7 @@ impl PlayTop {
         out: &mut Forces,
     ) {
         let k = self.kin(y);
-        let (wd0, res_n, res_0) = self.free_terms(&k);
+        let (wd0, res_n, res_0) = self.free_terms::<RES>(&k);
         let p = self.part(i);
         let arm = p.arm(k.e3);
         let vp = add(k.v, cross(k.w, arm));
@@ -544,7 +559,7 @@ impl PlayTop {
         out.ft[i] = [n * ft[0], n * ft[1]];
         out.mz[i] = n * mz;
         out.den[i] = den;
-        let p_res = self.resistance_power(&k, n, res_n, res_0);
+        let p_res = self.resistance_power::<RES>(&k, n, res_n, res_0);
         Self::write_rates(&k, vd, wd, n * power + p_res, dy);
     }
 
@@ -552,9 +567,15 @@ impl PlayTop {
     /// torque under Coulomb-Contensou friction) from the contact point's acceleration being
     /// zero; the 3 x 3 (4 x 4) system of the point's response solved directly.
     #[inline(always)]
-    fn one_stick_rates(&self, i: usize, y: &[f64; DIM], dy: &mut [f64; DIM], out: &mut Forces) {
+    fn one_stick_rates<const RES: bool>(
+        &self,
+        i: usize,
+        y: &[f64; DIM],
+        dy: &mut [f64; DIM],
+        out: &mut Forces,
+    ) {
         let k = self.kin(y);
-        let (wd0, res_n, res_0) = self.free_terms(&k);
+        let (wd0, res_n, res_0) = self.free_terms::<RES>(&k);
         let p = self.part(i);
         let arm = p.arm(k.e3);
         let inv_m = 1.0 / self.m;
@@ -614,7 +635,7 @@ impl PlayTop {
         out.n[i] = x[2];
         out.ft[i] = [x[0], x[1]];
         out.mz[i] = mz;
-        let p_res = self.resistance_power(&k, x[2], res_n, res_0);
+        let p_res = self.resistance_power::<RES>(&k, x[2], res_n, res_0);
         Self::write_rates(&k, vd, wd, p_res, dy);
     }
 

@@ -160,8 +160,6 @@ class PlayTop:
         drilling: float,
         air: float,
     ) -> PlayTop: ...
-    @property
-    def classic(self) -> bool: ...
 
 class Run:
     """The rows of a run of any model, kept natively; diagnostics on first read."""

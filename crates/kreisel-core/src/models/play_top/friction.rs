@@ -158,13 +158,20 @@ impl PlayTop {
         (vp[0] * vp[0] + vp[1] * vp[1] + rb * rb * wn * wn).sqrt()
     }
 
-    /// Whether the friction a sticking part needs lies in its cone (Coulomb) or ellipse
-    /// (Coulomb-Contensou), with a pushing normal force.
-    pub fn stick_margin(&self, f: &Forces, i: usize) -> f64 {
+    /// The cone test, the one place it is written: how far a normal force (or impulse) `n`,
+    /// tangential `t` and drilling moment `m` lie inside the friction cone (Coulomb) or
+    /// ellipse (Coulomb-Contensou, `|t|^2 + (m / rbar)^2 <= (mu n)^2`): `mu n - sqrt(|t|^2 +
+    /// (m / rbar)^2)`, positive inside.
+    pub fn cone_margin(&self, n: f64, t: [f64; 2], m: f64) -> f64 {
         let rb = self.friction.rbar();
-        let m = if rb > 0.0 { f.mz[i] / rb } else { 0.0 };
-        let t = f.ft[i][0] * f.ft[i][0] + f.ft[i][1] * f.ft[i][1];
-        self.friction.mu() * f.n[i] - (t + m * m).sqrt()
+        let m = if rb > 0.0 { m / rb } else { 0.0 };
+        self.friction.mu() * n - (t[0] * t[0] + t[1] * t[1] + m * m).sqrt()
+    }
+
+    /// Whether the friction a sticking part needs lies in its cone (Coulomb) or ellipse
+    /// (Coulomb-Contensou), with a pushing normal force ([`Self::cone_margin`]).
+    pub fn stick_margin(&self, f: &Forces, i: usize) -> f64 {
+        self.cone_margin(f.n[i], f.ft[i], f.mz[i])
     }
 
     /// The resistance torques of rolling, drilling and air (theory: play top), from the

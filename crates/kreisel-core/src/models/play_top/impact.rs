@@ -172,7 +172,8 @@ impl PlayTop {
                 // friction stops the slip first. That is the impulse that stops the contact
                 // point, where it lies in the friction cone.
                 let stop = solve3(transpose(kc), scale(-1.0, v0));
-                let inside = stop[2] > 0.0 && stop[0].hypot(stop[1]) <= mu * stop[2];
+                let inside =
+                    stop[2] > 0.0 && self.cone_margin(stop[2], [stop[0], stop[1]], 0.0) >= 0.0;
                 return if !viscous && inside {
                     apply(stop)
                 } else {
@@ -342,10 +343,9 @@ impl PlayTop {
                 let after = self.part(i).point_velocity(k1.v, k1.w, k1.e3);
                 match choice {
                     0 => {
-                        let m = if rb > 0.0 { drill[i] / rb } else { 0.0 };
                         pi[2] >= 0.0
-                            && (pi[0] * pi[0] + pi[1] * pi[1] + m * m).sqrt()
-                                <= mu * pi[2] * (1.0 + 1e-12)
+                            && self.cone_margin(pi[2] * (1.0 + 1e-12), [pi[0], pi[1]], drill[i])
+                                >= 0.0
                     }
                     1 => {
                         pi[2] >= 0.0 && vp[i][0] * after[0] + vp[i][1] * after[1] >= -tol_v * tol_v

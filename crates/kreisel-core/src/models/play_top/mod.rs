@@ -434,7 +434,8 @@ impl PlayTop {
                 .iter()
                 .min_by(|a, b| a.gap(y[9], k.e3).total_cmp(&b.gap(y[9], k.e3)));
             if let Some(p) = lowest {
-                y[12] = -p.gap_rate(0.0, k.w, k.e3);
+                // (0 - rate: a state at rest moves at +0, not -0)
+                y[12] = 0.0 - p.gap_rate(0.0, k.w, k.e3);
             }
         }
         Ok(y)

@@ -4,7 +4,7 @@
 //! does; and the run's guards (energy kept across switches, chattering).
 
 use super::simulate::PlayRow;
-use super::solve::Kernel;
+use super::solve::{Consts, Kernel};
 use super::{Contacts, Forces, Mode, PlayTop, Shape, DIM};
 use crate::error::{KreiselError, Result};
 use crate::integrate::{
@@ -569,6 +569,7 @@ impl Rules<'_> {
                 top: self.0,
                 contacts: phase.contacts,
                 kernel: Kernel::of(self.0, &phase.contacts),
+                consts: Consts::of(self.0),
                 last: &self.1,
             },
             t,
@@ -589,6 +590,7 @@ struct PhaseSystem<'a> {
     top: &'a PlayTop,
     contacts: Contacts,
     kernel: Kernel,
+    consts: Consts,
     last: &'a RefCell<Solved>,
 }
 
@@ -598,8 +600,14 @@ impl OdeSystem<DIM> for PhaseSystem<'_> {
         let mut last = self.last.borrow_mut();
         last.t = t;
         last.q = [y[0], y[1], y[2], y[3]];
-        self.top
-            .rates(self.kernel, &self.contacts, y, dy, &mut last.forces);
+        self.top.rates(
+            self.kernel,
+            &self.consts,
+            &self.contacts,
+            y,
+            dy,
+            &mut last.forces,
+        );
     }
     fn project(&self, y: &mut [f64; DIM]) {
         self.top.project(&self.contacts, y);

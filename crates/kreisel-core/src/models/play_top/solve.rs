@@ -83,6 +83,42 @@ impl Kernel {
     }
 }
 
+/// The ratios of a top's inertia the kernels use, computed once per phase (divisions in a
+/// right-hand side's dependency chain cost more than their count says).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Consts {
+    inv_m: f64,
+    inv_a: f64,
+    /// `1/C - 1/A`.
+    kappa: f64,
+    /// `(A - C) / A`.
+    euler: f64,
+}
+
+impl Consts {
+    /// The ratios of `top`.
+    pub(crate) fn of(top: &PlayTop) -> Consts {
+        Consts {
+            inv_m: 1.0 / top.m,
+            inv_a: 1.0 / top.a,
+            kappa: 1.0 / top.c - 1.0 / top.a,
+            euler: (top.a - top.c) / top.a,
+        }
+    }
+
+    /// `J^-1 t` in the space frame: the symmetric top's inverse inertia about G,
+    /// `t / A + (1/C - 1/A) (e3 . t) e3` (no rotation to the body frame and back).
+    #[inline(always)]
+    fn inv_inertia(&self, k: &Kin, t: [f64; 3]) -> [f64; 3] {
+        let kt = self.kappa * dot(k.e3, t);
+        [
+            self.inv_a * t[0] + kt * k.e3[0],
+            self.inv_a * t[1] + kt * k.e3[1],
+            self.inv_a * t[2] + kt * k.e3[2],
+        ]
+    }
+}
+
 /// Kinematics of a state in the space frame.
 #[derive(Debug, Clone, Copy)]
 pub struct Kin {
@@ -363,36 +399,25 @@ impl PlayTop {
     /// `f` with moment `t` about G makes (per unit time for a force).
     #[inline(always)]
     pub(super) fn response(&self, k: &Kin, f: [f64; 3], t: [f64; 3]) -> ([f64; 3], [f64; 3]) {
-        (scale(1.0 / self.m, f), self.inv_inertia_space(k, t))
-    }
-
-    /// `J^-1 t` in the space frame: the symmetric top's inverse inertia about G,
-    /// `t / A + (1/C - 1/A) (e3 . t) e3` (no rotation to the body frame and back).
-    #[inline(always)]
-    fn inv_inertia_space(&self, k: &Kin, t: [f64; 3]) -> [f64; 3] {
-        let inv_a = 1.0 / self.a;
-        let kappa = (1.0 / self.c - inv_a) * dot(k.e3, t);
-        [
-            inv_a * t[0] + kappa * k.e3[0],
-            inv_a * t[1] + kappa * k.e3[1],
-            inv_a * t[2] + kappa * k.e3[2],
-        ]
+        (scale(1.0 / self.m, f), Consts::of(self).inv_inertia(k, t))
     }
 
     /// Contact forces and the state derivative with the parts in `c` (see the module's
     /// notes): the kernel [`Kernel::of`] chooses, run.
     pub fn dynamics(&self, c: &Contacts, y: &[f64; DIM], dy: &mut [f64; DIM]) -> Forces {
         let mut out = Forces::default();
-        self.rates(Kernel::of(self, c), c, y, dy, &mut out);
+        self.rates(Kernel::of(self, c), &Consts::of(self), c, y, dy, &mut out);
         out
     }
 
     /// [`Self::dynamics`] by the kernel `kernel` (chosen once per phase), the forces written
     /// to `out` (only the touching parts' entries: a phase's cache keeps the others at zero).
     #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
     pub(crate) fn rates(
         &self,
         kernel: Kernel,
+        p: &Consts,
         c: &Contacts,
         y: &[f64; DIM],
         dy: &mut [f64; DIM],
@@ -401,12 +426,12 @@ impl PlayTop {
         // The resistance torques compiled in or out once per call (not looked up at each use).
         let res = self.has_resistance();
         match (kernel, res) {
-            (Kernel::Flight, false) => self.flight_rates::<false>(y, dy),
-            (Kernel::Flight, true) => self.flight_rates::<true>(y, dy),
-            (Kernel::OneSlip(i), false) => self.one_slip_rates::<false>(c, i, y, dy, out),
-            (Kernel::OneSlip(i), true) => self.one_slip_rates::<true>(c, i, y, dy, out),
-            (Kernel::OneStick(i), false) => self.one_stick_rates::<false>(i, y, dy, out),
-            (Kernel::OneStick(i), true) => self.one_stick_rates::<true>(i, y, dy, out),
+            (Kernel::Flight, false) => self.flight_rates::<false>(p, y, dy),
+            (Kernel::Flight, true) => self.flight_rates::<true>(p, y, dy),
+            (Kernel::OneSlip(i), false) => self.one_slip_rates::<false>(p, c, i, y, dy, out),
+            (Kernel::OneSlip(i), true) => self.one_slip_rates::<true>(p, c, i, y, dy, out),
+            (Kernel::OneStick(i), false) => self.one_stick_rates::<false>(p, i, y, dy, out),
+            (Kernel::OneStick(i), true) => self.one_stick_rates::<true>(p, i, y, dy, out),
             (Kernel::Flat, _) => *out = self.flat_dynamics(c, y, dy),
             (Kernel::System(u), _) => match u {
                 0..=2 => self.dynamics_of::<2>(c, y, dy, out),
@@ -426,11 +451,12 @@ impl PlayTop {
         dy: &mut [f64; DIM],
         out: &mut Forces,
     ) {
+        let p = Consts::of(self);
         let k = self.kin(y);
         let (wd0, res_n, res_0) = if self.has_resistance() {
-            self.free_terms::<true>(&k)
+            self.free_terms::<true>(&p, &k)
         } else {
-            self.free_terms::<false>(&k)
+            self.free_terms::<false>(&p, &k)
         };
         let vd0 = [0.0, 0.0, -self.g];
         let mut sys = System::<U>::new();
@@ -480,15 +506,15 @@ impl PlayTop {
     /// of the resistance torque that does not scale with N; and the resistance torques per
     /// unit N and not (space frame).
     #[inline(always)]
-    fn free_terms<const RES: bool>(&self, k: &Kin) -> ([f64; 3], [f64; 3], [f64; 3]) {
-        let e = (self.a - self.c) / self.a * dot(k.w, k.e3);
+    fn free_terms<const RES: bool>(&self, p: &Consts, k: &Kin) -> ([f64; 3], [f64; 3], [f64; 3]) {
+        let e = p.euler * dot(k.w, k.e3);
         let we = cross(k.w, k.e3);
         let euler = [e * we[0], e * we[1], e * we[2]];
         if !RES {
             return (euler, ZERO, ZERO);
         }
         let (res_n, res_0) = self.resistance_at(k.w, EZ, self.parts.reach());
-        (add(euler, self.inv_inertia_space(k, res_0)), res_n, res_0)
+        (add(euler, p.inv_inertia(k, res_0)), res_n, res_0)
     }
 
     /// The power the resistance torques take (W) with the total normal force `n_total`.
@@ -520,9 +546,9 @@ impl PlayTop {
 
     /// The kernel of no part touching: free flight.
     #[inline(always)]
-    fn flight_rates<const RES: bool>(&self, y: &[f64; DIM], dy: &mut [f64; DIM]) {
+    fn flight_rates<const RES: bool>(&self, p: &Consts, y: &[f64; DIM], dy: &mut [f64; DIM]) {
         let k = self.kin(y);
-        let (wd0, res_n, res_0) = self.free_terms::<RES>(&k);
+        let (wd0, res_n, res_0) = self.free_terms::<RES>(p, &k);
         let p = self.resistance_power::<RES>(&k, 0.0, res_n, res_0);
         Self::write_rates(&k, [0.0, 0.0, -self.g], wd0, p, dy);
     }
@@ -532,6 +558,7 @@ impl PlayTop {
     #[inline(always)]
     fn one_slip_rates<const RES: bool>(
         &self,
+        p: &Consts,
         c: &Contacts,
         i: usize,
         y: &[f64; DIM],
@@ -539,19 +566,19 @@ impl PlayTop {
         out: &mut Forces,
     ) {
         let k = self.kin(y);
-        let (wd0, res_n, res_0) = self.free_terms::<RES>(&k);
-        let p = self.part(i);
-        let arm = p.arm(k.e3);
+        let (wd0, res_n, res_0) = self.free_terms::<RES>(p, &k);
+        let part = self.part(i);
+        let arm = part.arm(k.e3);
         let vp = add(k.v, cross(k.w, arm));
         let (ft, mz) = self.friction_per_n(vp, k.w[2], c.dir[i], c.creep);
         let f = [ft[0], ft[1], 1.0];
         let t = add(add(cross(arm, f), [0.0, 0.0, mz]), res_n);
-        let dw = self.inv_inertia_space(&k, t);
+        let dw = p.inv_inertia(&k, t);
         let jw = cross(arm, EZ);
-        let den = 1.0 / self.m + dot(jw, dw);
-        let rhs = self.g - dot(jw, wd0) - p.gap_bias(k.w, k.e3);
+        let den = p.inv_m + dot(jw, dw);
+        let rhs = self.g - dot(jw, wd0) - part.gap_bias(k.w, k.e3);
         let n = if den != 0.0 { rhs / den } else { 0.0 };
-        let nm = n / self.m;
+        let nm = n * p.inv_m;
         let vd = [nm * f[0], nm * f[1], nm - self.g];
         let wd = add(wd0, scale(n, dw));
         let power = ft[0] * vp[0] + ft[1] * vp[1] + mz * k.w[2];
@@ -569,28 +596,29 @@ impl PlayTop {
     #[inline(always)]
     fn one_stick_rates<const RES: bool>(
         &self,
+        p: &Consts,
         i: usize,
         y: &[f64; DIM],
         dy: &mut [f64; DIM],
         out: &mut Forces,
     ) {
         let k = self.kin(y);
-        let (wd0, res_n, res_0) = self.free_terms::<RES>(&k);
-        let p = self.part(i);
-        let arm = p.arm(k.e3);
-        let inv_m = 1.0 / self.m;
+        let (wd0, res_n, res_0) = self.free_terms::<RES>(p, &k);
+        let part = self.part(i);
+        let arm = part.arm(k.e3);
+        let inv_m = p.inv_m;
         // Each unknown's angular response and its row's measure (arm x e_j).
         let jw = [cross(arm, EX), cross(arm, EY), cross(arm, EZ)];
         let dw = [
-            self.inv_inertia_space(&k, jw[0]),
-            self.inv_inertia_space(&k, jw[1]),
-            self.inv_inertia_space(&k, add(jw[2], res_n)),
+            p.inv_inertia(&k, jw[0]),
+            p.inv_inertia(&k, jw[1]),
+            p.inv_inertia(&k, add(jw[2], res_n)),
         ];
-        let bias = p.slip_bias(k.w, k.e3);
+        let bias = part.slip_bias(k.w, k.e3);
         let rhs = [
             -(dot(jw[0], wd0) + bias[0]),
             -(dot(jw[1], wd0) + bias[1]),
-            self.g - dot(jw[2], wd0) - p.gap_bias(k.w, k.e3),
+            self.g - dot(jw[2], wd0) - part.gap_bias(k.w, k.e3),
         ];
         let mut a = [[0.0; 3]; 3];
         for r in 0..3 {
@@ -602,7 +630,7 @@ impl PlayTop {
         let (x, mz) = if rb > 0.0 {
             // The drilling torque's column and row: the rotation's response to ez, and the
             // drilling rate's rate.
-            let dwm = self.inv_inertia_space(&k, EZ);
+            let dwm = p.inv_inertia(&k, EZ);
             let col: [f64; 3] = core::array::from_fn(|r| dot(jw[r], dwm));
             let row: [f64; 3] = core::array::from_fn(|j| dw[j][2]);
             let (amm, rm) = (dwm[2], -wd0[2]);
@@ -629,7 +657,7 @@ impl PlayTop {
             ),
         );
         if rb > 0.0 {
-            wd = add(wd, scale(mz, self.inv_inertia_space(&k, EZ)));
+            wd = add(wd, scale(mz, p.inv_inertia(&k, EZ)));
         }
         let vd = [inv_m * x[0], inv_m * x[1], inv_m * x[2] - self.g];
         out.n[i] = x[2];

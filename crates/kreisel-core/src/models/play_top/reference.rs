@@ -4,7 +4,10 @@
 //! constraint. The engine solves the same motion in the space frame from the parts' support
 //! functions ([`super::solve`]); the two must agree to rounding.
 
-use super::{add, scale, solve3, to_body, to_space, Contacts, Friction, Mode, PlayTop, Shape, DIM};
+use super::solve::{Consts, Kernel};
+use super::{
+    add, scale, solve3, to_body, to_space, Contacts, Forces, Friction, Mode, PlayTop, Shape, DIM,
+};
 use crate::rotation::{cross, dot, quaternion_from_euler, Quat};
 
 /// The state derivative and the normal force of a tip sphere (radius `rho`, centre `s` below
@@ -83,7 +86,8 @@ fn classic(
 }
 
 /// One sphere: the engine's kernels give the classic equations' right-hand side in every
-/// mode and friction law.
+/// mode and friction law (the space-frame kernel of one sliding part too, where the ball's
+/// own body-frame kernel is the one a run takes).
 #[test]
 fn the_kernels_give_the_classic_one_sphere_equations() {
     let (s, rho) = (0.003, 0.015);
@@ -117,7 +121,71 @@ fn the_kernels_give_the_classic_one_sphere_equations() {
                     );
                 }
                 assert!((n - f.n[0]).abs() <= 1e-10 * n.abs().max(1e-12));
+                if mode == Mode::Slip {
+                    let (mut g, mut fo) = ([0.0; DIM], Forces::default());
+                    let p = Consts::of(&top);
+                    top.rates(Kernel::OneSlip(0), &p, &cs, &y, &mut g, &mut fo);
+                    for i in 0..DIM {
+                        assert!(
+                            (a[i] - g[i]).abs() <= 1e-9 * a[i].abs() + 1e-14 * big,
+                            "one-slip kernel {friction:?} {i}: {} {}",
+                            a[i],
+                            g[i]
+                        );
+                    }
+                    assert!((fo.den[0] - f.den[0]).abs() <= 1e-9 * f.den[0].abs());
+                }
             }
         }
+    }
+}
+
+/// The ball's kernel serves a sphere that is not the first part and whose centre lies above
+/// G (s < 0) as the general kernel of one sliding part does (the forces in that part's
+/// slot).
+#[test]
+fn the_balls_kernel_is_the_one_part_kernel_for_any_sphere() {
+    let parts = [
+        Shape::Torus {
+            major: 0.02,
+            minor: 0.004,
+            z: 0.03,
+        },
+        Shape::Sphere {
+            radius: 0.026,
+            z: 0.02,
+        },
+    ];
+    let q = quaternion_from_euler(0.3, 1.9, 0.4);
+    for friction in [Friction::Coulomb { mu: 0.3 }, Friction::Viscous { mu: 0.7 }] {
+        let top = PlayTop::with_parts(0.15, 6e-5, 9e-5, &parts, 9.81, friction, 0.2, 0.0, 0.0, 0.0)
+            .unwrap();
+        let y = top.state(q, [4.0, -1.0, 30.0], 0.02, 0.01, None).unwrap();
+        let mut cs = Contacts::NONE;
+        cs.mode[1] = Mode::Slip;
+        cs.dir[1] = [0.6, -0.8];
+        assert!(matches!(
+            Kernel::of(&top, &cs),
+            Kernel::BallSlip { i: 1, .. }
+        ));
+        let (mut a, mut b, mut fb) = ([0.0; DIM], [0.0; DIM], Forces::default());
+        let fa = top.dynamics(&cs, &y, &mut a);
+        top.rates(
+            Kernel::OneSlip(1),
+            &Consts::of(&top),
+            &cs,
+            &y,
+            &mut b,
+            &mut fb,
+        );
+        let big = a.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        for i in 0..DIM {
+            assert!(
+                (a[i] - b[i]).abs() <= 1e-9 * a[i].abs() + 1e-14 * big,
+                "{friction:?} {i}"
+            );
+        }
+        assert!(fa.n[0] == 0.0 && (fa.n[1] - fb.n[1]).abs() <= 1e-10 * fb.n[1].abs());
+        assert!((fa.den[1] - fb.den[1]).abs() <= 1e-9 * fb.den[1].abs());
     }
 }

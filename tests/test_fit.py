@@ -22,7 +22,6 @@ import pytest
 from scipy.integrate import solve_ivp
 
 import kreisel
-from kreisel._fit import core_has_sensitivities
 
 DRAWS = int(os.environ.get("KREISEL_FIT_DRAWS", "20"))
 FULL = DRAWS >= 100
@@ -217,14 +216,7 @@ def test_with_the_ratios_fixed_the_same_recording_is_identifiable():
 
 JACOBIAN_MODES = [
     "finite-differences",
-    pytest.param(
-        "sensitivities",
-        marks=pytest.mark.skipif(
-            not core_has_sensitivities(),
-            reason="kreisel.simulate has no sensitivities= in this build (the core's forward "
-            "sensitivities come with their own change)",
-        ),
-    ),
+    "sensitivities",
 ]
 
 
@@ -243,43 +235,7 @@ def test_each_jacobian_recovers_a_noiseless_top_exactly(mode):
         assert res.values[k] == pytest.approx(v, rel=1e-6, abs=1e-8), k
 
 
-class _ContractRun:
-    """A run with ``sensitivities`` as the core's contract has them, made here by central
-    differences over kreisel.simulate: a stand-in that checks what fit does with them (the
-    chain rule through log coordinates, the tip of the axis, the sensor frame)."""
-
-    def __init__(self, traj, sens):
-        self._traj, self.sensitivities = traj, sens
-
-    def __getitem__(self, name):
-        return self._traj[name]
-
-    def __getattr__(self, name):
-        return getattr(self._traj, name)
-
-
-def _contract_simulate(top, state, t_end, *, sensitivities=(), **kw):
-    base = kreisel.simulate(top, state, t_end, **kw)
-    sens = {}
-    for name in sensitivities:
-        value = getattr(state, name) if hasattr(state, name) else getattr(top, name)
-        h = 1e-6 * (abs(value) or 1.0)
-        out = []
-        for sign in (1, -1):
-            if hasattr(state, name):
-                s = kreisel.EulerState(**{**state.__dict__, name: getattr(state, name) + sign * h})
-                out.append(kreisel.simulate(top, s, t_end, **kw))
-            else:
-                p = dict(I1=top.I1, I3=top.I3, m=top.m, l=top.l, g=top.g)
-                p[name] += sign * h
-                out.append(kreisel.simulate(kreisel.LagrangeTop(**p), state, t_end, **kw))
-        sens[name] = {
-            c: (out[0][c] - out[1][c]) / (2 * h) for c in ("omega", "theta", "phi", "psi")
-        }
-    return _ContractRun(base, sens)
-
-
-def test_the_sensitivity_path_agrees_with_finite_differences(monkeypatch):
+def test_the_sensitivity_path_agrees_with_finite_differences():
     rng = np.random.default_rng(2)
     p = LAGRANGE
     t = np.arange(90) / 60
@@ -297,10 +253,8 @@ def test_the_sensitivity_path_agrees_with_finite_differences(monkeypatch):
     state = top.state(theta=0.59, psi_dot=295.0)
     free = ["I3", "l", "theta", "phi", "psi_dot"]
     fd = kreisel.fit(top, state, obs, free=free, jacobian="finite-differences")
-    import kreisel._fit as fit_module
-
-    monkeypatch.setattr(fit_module, "simulate", _contract_simulate)
-    monkeypatch.setattr(fit_module, "core_has_sensitivities", lambda: True)
+    # the core's forward sensitivities (not a stand-in): a wrong variational equation would
+    # move the minimum or the errors
     via = kreisel.fit(top, state, obs, free=free)
     assert via.jacobian == "sensitivities"
     for k in free:

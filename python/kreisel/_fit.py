@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import inspect
 import warnings
 from collections.abc import Sequence
 from fractions import Fraction
@@ -26,11 +25,6 @@ FD_STEP = 1e-5
 # a direction of the scaled Jacobian with a singular value below this share of the largest
 # is one the data cannot see
 NULL_RCOND = 1e-6
-
-
-def core_has_sensitivities() -> bool:
-    """Whether :func:`kreisel.simulate` integrates forward sensitivities (``sensitivities=``)."""
-    return "sensitivities" in inspect.signature(simulate).parameters
 
 
 class FitResult:
@@ -386,16 +380,13 @@ def _params(free, spec: fm.TopSpec, s_sizes, s_vals, obs_list, rotation) -> list
 
 def _jacobian_mode(jacobian, top, spec, s_sens, params) -> str:
     dynamic = [p for p in params if p.group != "sensor"]
-    supported = (
-        core_has_sensitivities()
-        and not isinstance(top, PlayTop)
-        and all(p.key in spec.sensitive or p.key in s_sens for p in dynamic)
+    supported = not isinstance(top, PlayTop) and all(
+        p.key in spec.sensitive or p.key in s_sens for p in dynamic
     )
     if jacobian == "sensitivities" and not supported:
-        why = ("kreisel.simulate has no forward sensitivities in this build"
-               if not core_has_sensitivities() else
-               "the core's sensitivities cover heavy and Lagrange tops on a fixed, undamped "
-               "pivot")  # fmt: skip
+        why = ("the core's sensitivities cover heavy and Lagrange tops on a fixed pivot "
+               "(viscous and drag damping included), not tops on a floor, moving pivots or "
+               "dry friction")  # fmt: skip
         raise ParameterError(
             f"jacobian = 'sensitivities' is not allowed here: {why}; use 'finite-differences'"
         )

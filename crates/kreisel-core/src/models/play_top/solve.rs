@@ -460,10 +460,10 @@ impl PlayTop {
             (Kernel::OneStick(i), true) => self.one_stick_rates::<true>(p, i, y, dy, out),
             (Kernel::Flat, _) => *out = self.flat_dynamics(c, y, dy),
             (Kernel::System(u), _) => match u {
-                0..=2 => self.dynamics_of::<2>(c, y, dy, out),
-                3 | 4 => self.dynamics_of::<4>(c, y, dy, out),
-                5..=8 => self.dynamics_of::<8>(c, y, dy, out),
-                _ => self.dynamics_of::<MAXU>(c, y, dy, out),
+                0..=2 => self.dynamics_of::<2>(p, c, y, dy, out),
+                3 | 4 => self.dynamics_of::<4>(p, c, y, dy, out),
+                5..=8 => self.dynamics_of::<8>(p, c, y, dy, out),
+                _ => self.dynamics_of::<MAXU>(p, c, y, dy, out),
             },
         }
     }
@@ -475,17 +475,17 @@ impl PlayTop {
     #[inline(never)]
     fn dynamics_of<const U: usize>(
         &self,
+        p: &Consts,
         c: &Contacts,
         y: &[f64; DIM],
         dy: &mut [f64; DIM],
         out: &mut Forces,
     ) {
-        let p = Consts::of(self);
         let k = self.kin(y);
         let (wd0, res_n, res_0) = if self.has_resistance() {
-            self.free_terms::<true>(&p, &k)
+            self.free_terms::<true>(p, &k)
         } else {
-            self.free_terms::<false>(&p, &k)
+            self.free_terms::<false>(p, &k)
         };
         let vd0 = [0.0, 0.0, -self.g];
         let mut sys = System::<U>::new();

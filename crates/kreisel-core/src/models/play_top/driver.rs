@@ -4,7 +4,7 @@
 //! does; and the run's guards (energy kept across switches, chattering).
 
 use super::simulate::PlayRow;
-use super::solve::{Consts, Kernel};
+use super::solve::{code, Consts, Kernel};
 use super::{Contacts, Forces, Mode, PlayTop, Shape, DIM};
 use crate::error::{KreiselError, Result};
 use crate::integrate::{
@@ -564,19 +564,36 @@ impl Rules<'_> {
         t_end: f64,
         obs: &mut O,
     ) -> PhaseResult {
-        integrator.integrate(
-            &PhaseSystem {
-                top: self.0,
-                contacts: phase.contacts,
-                kernel: Kernel::of(self.0, &phase.contacts),
-                consts: Consts::of(self.0),
-                last: &self.1,
-            },
-            t,
-            y,
-            t_end,
-            obs,
-        )
+        let kernel = Kernel::of(self.0, &phase.contacts);
+        // One integrator per common kernel, each with only that kernel inlined
+        // ([`PlayTop::rates_as`]).
+        macro_rules! run {
+            ($k:expr, $res:expr) => {
+                integrator.integrate(
+                    &PhaseSystem::<{ $k }, { $res }> {
+                        top: self.0,
+                        contacts: phase.contacts,
+                        kernel,
+                        consts: Consts::of(self.0),
+                        last: &self.1,
+                    },
+                    t,
+                    y,
+                    t_end,
+                    obs,
+                )
+            };
+        }
+        match (kernel.code(), self.0.has_resistance()) {
+            (code::FLIGHT, false) => run!(code::FLIGHT, false),
+            (code::FLIGHT, true) => run!(code::FLIGHT, true),
+            (code::BALL, _) => run!(code::BALL, false),
+            (code::ONE_SLIP, false) => run!(code::ONE_SLIP, false),
+            (code::ONE_SLIP, true) => run!(code::ONE_SLIP, true),
+            (code::ONE_STICK, false) => run!(code::ONE_STICK, false),
+            (code::ONE_STICK, true) => run!(code::ONE_STICK, true),
+            _ => run!(code::OTHER, false),
+        }
     }
 
     pub(crate) fn mode_name(&self, phase: &Phase) -> &'static str {
@@ -586,7 +603,7 @@ impl Rules<'_> {
 
 /// The several-part equations with the parts' modes fixed; every right-hand side's forces
 /// are left in `last`.
-struct PhaseSystem<'a> {
+struct PhaseSystem<'a, const K: u8, const RES: bool> {
     top: &'a PlayTop,
     contacts: Contacts,
     kernel: Kernel,
@@ -594,13 +611,13 @@ struct PhaseSystem<'a> {
     last: &'a RefCell<Solved>,
 }
 
-impl OdeSystem<DIM> for PhaseSystem<'_> {
+impl<const K: u8, const RES: bool> OdeSystem<DIM> for PhaseSystem<'_, K, RES> {
     #[inline(always)]
     fn rhs(&self, t: f64, y: &[f64; DIM], dy: &mut [f64; DIM]) {
         let mut last = self.last.borrow_mut();
         last.t = t;
         last.q = [y[0], y[1], y[2], y[3]];
-        self.top.rates(
+        self.top.rates_as::<K, RES>(
             self.kernel,
             &self.consts,
             &self.contacts,

@@ -67,7 +67,33 @@ pub(crate) enum Kernel {
     System(usize),
 }
 
+/// The kernels by code, for the integrator's compile-time choice ([`PlayTop::rates_as`]):
+/// each common phase gets an integrator with only its own kernel inlined into its stages.
+pub(crate) mod code {
+    /// [`super::Kernel::Flight`].
+    pub const FLIGHT: u8 = 0;
+    /// [`super::Kernel::BallSlip`].
+    pub const BALL: u8 = 1;
+    /// [`super::Kernel::OneSlip`].
+    pub const ONE_SLIP: u8 = 2;
+    /// [`super::Kernel::OneStick`].
+    pub const ONE_STICK: u8 = 3;
+    /// Any other kernel (a ring lying flat, the joint systems): not inlined.
+    pub const OTHER: u8 = 4;
+}
+
 impl Kernel {
+    /// The kernel's [`code`].
+    pub(crate) fn code(self) -> u8 {
+        match self {
+            Kernel::Flight => code::FLIGHT,
+            Kernel::BallSlip { .. } => code::BALL,
+            Kernel::OneSlip(_) => code::ONE_SLIP,
+            Kernel::OneStick(_) => code::ONE_STICK,
+            Kernel::Flat | Kernel::System(_) => code::OTHER,
+        }
+    }
+
     /// The kernel of the contacts `c` of `top`.
     pub(crate) fn of(top: &PlayTop, c: &Contacts) -> Kernel {
         if c.flat {
@@ -466,6 +492,48 @@ impl PlayTop {
                 _ => self.dynamics_of::<MAXU>(p, c, y, dy, out),
             },
         }
+    }
+
+    /// [`Self::rates`] with the kernel's code `K` ([`Kernel::code`]) and the resistance
+    /// torques (`RES`, [`Self::has_resistance`]) fixed at compile time: the integrator of a
+    /// phase inlines only its own kernel (every kernel inlined into every stage made the
+    /// ball's phase 28 % dearer in instructions than on its own). A `kernel` of another code
+    /// runs through [`Self::rates_of`], the same equations.
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn rates_as<const K: u8, const RES: bool>(
+        &self,
+        kernel: Kernel,
+        p: &Consts,
+        c: &Contacts,
+        y: &[f64; DIM],
+        dy: &mut [f64; DIM],
+        out: &mut Forces,
+    ) {
+        match (K, kernel) {
+            (code::FLIGHT, Kernel::Flight) => self.flight_rates::<RES>(p, y, dy),
+            (code::BALL, Kernel::BallSlip { i, s, rho }) => {
+                self.ball_slip_rates(p, c, i, s, rho, y, dy, out)
+            }
+            (code::ONE_SLIP, Kernel::OneSlip(i)) => self.one_slip_rates::<RES>(p, c, i, y, dy, out),
+            (code::ONE_STICK, Kernel::OneStick(i)) => self.one_stick_rates::<RES>(p, i, y, dy, out),
+            _ => self.rates_of(kernel, p, c, y, dy, out),
+        }
+    }
+
+    /// [`Self::rates`], not inlined.
+    #[inline(never)]
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn rates_of(
+        &self,
+        kernel: Kernel,
+        p: &Consts,
+        c: &Contacts,
+        y: &[f64; DIM],
+        dy: &mut [f64; DIM],
+        out: &mut Forces,
+    ) {
+        self.rates(kernel, p, c, y, dy, out)
     }
 
     /// [`Self::dynamics`] with systems of at most `U` unknowns. Not inlined: the joint

@@ -20,7 +20,8 @@ TOP_FIELDS = {
     "lagrange": ("I1", "I3", "m", "l", "g"),
     "heavy": ("I1", "I2", "I3", "m", "com", "g"),
     "play": ("m", "A", "C", "s", "rho", "shape", "g", "friction", "mu", "patch_radius",
-             "restitution", "rolling_resistance", "drilling_resistance", "air_drag"),
+             "restitution", "rolling_resistance", "drilling_resistance", "air_drag",
+             "stick_threshold"),
 }  # fmt: skip
 REQUIRED = {
     "lagrange": ("I1", "I3", "m", "l"),

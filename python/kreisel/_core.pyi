@@ -160,6 +160,9 @@ class PlayTop:
         drilling: float,
         air: float,
     ) -> PlayTop: ...
+    def with_stick_threshold(self, stick: float) -> PlayTop: ...
+    @property
+    def stick_threshold(self) -> float: ...
 
 class Run:
     """The rows of a run of any model, kept natively; diagnostics on first read."""

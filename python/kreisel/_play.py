@@ -224,6 +224,14 @@ class PlayTop:
         rotation.
     air_drag : float
         A torque ``-air_drag omega`` (N m s).
+    stick_threshold : float
+        The contact model's stick threshold, a share of the top's speed scale
+        ``l |omega| + |v| + sqrt(g l)`` (``l`` its reach), in (0, 1e-3]: a sliding part sticks
+        where its slip (and, under Coulomb-Contensou friction, its drilling ``rbar |w_n|``)
+        falls to it. 1e-9 by default. A setting of the model, not of the integration: a run
+        at a tighter ``rtol`` keeps it; a run too loose to resolve it (``rtol`` above a tenth
+        of it) sticks at the slip it resolves, ``10 rtol`` of the speed scale (theory: play
+        top, contact thresholds).
 
     Conventions: theory: play top (u = 1 upright, alpha = s/rho, gamma = A/C,
     Jellett's J = L.(s e3 + rho ez)). Source: Rauch-Wojciechowski,
@@ -255,6 +263,7 @@ class PlayTop:
         drilling_resistance: float = 0.0,
         air_drag: float = 0.0,
         shape: list[Part] | tuple[Part, ...] | None = None,
+        stick_threshold: float = 1e-9,
     ) -> None:
         friction = Coulomb(0.3) if friction is None else friction
         if not isinstance(friction, _LAWS):
@@ -286,6 +295,7 @@ class PlayTop:
             rolling_resistance=real("rolling_resistance", rolling_resistance),
             drilling_resistance=real("drilling_resistance", drilling_resistance),
             air_drag=real("air_drag", air_drag),
+            stick_threshold=real("stick_threshold", stick_threshold),
         )
         rest = (p["restitution"], p["rolling_resistance"], p["drilling_resistance"], p["air_drag"])
         if parts is None:
@@ -305,6 +315,8 @@ class PlayTop:
                     msg = msg.replace(f"shape[{i}].", f"{type(q).__name__} {q.name!r}: ")
                 raise ParameterError(msg) from None
             self._shape = parts
+        if p["stick_threshold"] != 1e-9:
+            self._native = self._native.with_stick_threshold(p["stick_threshold"])
         self._given_shape = parts is not None
         self._p, self._friction = p, friction
 
@@ -352,6 +364,9 @@ class PlayTop:
             for k in ("restitution", "rolling_resistance", "drilling_resistance", "air_drag")
             if p[k] != 0.0
         )
+        if p["stick_threshold"] != 1e-9:
+            extra += f", stick_threshold={p['stick_threshold']!r}"
+
         if self._given_shape:
             return (
                 f"PlayTop(m={p['m']!r}, A={p['A']!r}, C={p['C']!r}, shape={list(self._shape)!r}, "
@@ -378,6 +393,7 @@ class PlayTop:
             ("rolling_resistance", p["rolling_resistance"], "m", "rolling loss length"),
             ("drilling_resistance", p["drilling_resistance"], "m", "drilling loss length"),
             ("air_drag", p["air_drag"], "N m s", "air torque per rad/s"),
+            ("stick_threshold", p["stick_threshold"], "1", "share of the speed scale"),
         ]
         tippe = 1 - self.alpha < self.gamma < 1 + self.alpha
         notes = [

@@ -104,6 +104,20 @@ impl PyPlayTop {
         })
     }
 
+    /// This top with the stick threshold `stick` (a share of the speed scale, in
+    /// `(0, 1e-3]`; the core's `PlayTop::with_stick_threshold`).
+    fn with_stick_threshold(&self, py: Python<'_>, stick: f64) -> PyResult<Self> {
+        Ok(PyPlayTop {
+            inner: self.inner.with_stick_threshold(stick).py(py)?,
+        })
+    }
+
+    /// The stick threshold (a share of the speed scale).
+    #[getter]
+    fn stick_threshold(&self) -> f64 {
+        self.inner.stick
+    }
+
     /// A play top of contact parts, each `(kind, a, b, z)`: `("sphere", radius, 0, z)`,
     /// `("spheroid", equatorial, axial, z)` or `("torus", major, minor, z)`.
     #[staticmethod]

@@ -118,6 +118,11 @@ pub struct PlayTop {
     /// The contact parts (the tip sphere `Sphere { radius: rho, z: -s }` for a top built by
     /// [`PlayTop::new`]).
     pub parts: Parts,
+    /// The stick threshold (dimensionless, [`PlayTop::STICK`] unless set with
+    /// [`PlayTop::with_stick_threshold`]): a sliding part sticks where its sliding measure
+    /// falls to this share of the top's speed scale ([`PlayTop::stick_speed`]). A setting of
+    /// the contact model, not of the integration: `rtol` changes only the integration error.
+    pub stick: f64,
 }
 
 /// `r v`: a body-frame vector in space (`r` the row-major rotation body -> space).
@@ -217,7 +222,40 @@ impl PlayTop {
             drilling,
             air,
             parts: Parts::one(Shape::Sphere { radius: rho, z: -s }),
+            stick: Self::STICK,
         })
+    }
+
+    /// The default stick threshold: 1e-9 of the speed scale (the resolution of the default
+    /// rtol, 1e-10: runs at it and looser are unchanged; at tighter tolerances the model
+    /// stays the same instead of following rtol down).
+    pub const STICK: f64 = 1e-9;
+
+    /// This top with the stick threshold `stick` ([`PlayTop::stick_speed`]): a share of the
+    /// speed scale in `(0, 1e-3]`.
+    pub fn with_stick_threshold(mut self, stick: f64) -> Result<Self> {
+        if !(stick > 0.0 && stick <= 1e-3) {
+            return Err(KreiselError::InvalidParameter {
+                name: "stick_threshold".into(),
+                value: format!("{stick:?}"),
+                allowed: "a share of the top's speed scale in (0, 1e-3]: a part sticks where its \
+                          sliding measure falls to it"
+                    .into(),
+            });
+        }
+        self.stick = stick;
+        Ok(self)
+    }
+
+    /// The stick speed at `y` (m/s): a sliding part sticks where its sliding measure
+    /// ([`PlayTop::slide_measure`]) falls to it, and a part that starts or lands with a
+    /// sliding measure below it starts sticking where its law lets it. The stick threshold
+    /// times the speed scale ([`PlayTop::speed_scale`], `l |omega| + |v| + sqrt(g l)`): the
+    /// model's own threshold, scaled from the top's reach and its motion. A run whose
+    /// integration cannot resolve it (rtol above a tenth of the threshold) uses the slip it
+    /// resolves instead, `10 rtol` of the speed scale.
+    pub fn stick_speed(&self, y: &[f64; DIM]) -> f64 {
+        self.stick * self.speed_scale(y)
     }
 
     /// A play top whose contact geometry is the union of `parts` (each checked, named

@@ -199,3 +199,23 @@ def test_a_one_part_top_without_parts_has_no_part_modes():
     top = kreisel.LagrangeTop(I1=0.0125, I3=0.005, m=0.5, l=0.1)
     tr = kreisel.simulate(top, top.state(theta=0.5, psi_dot=150.0), 0.1)
     assert tr.part_modes is None
+
+
+def test_the_figure_draws_one_band_per_part_and_the_titles_name_the_parts(tippe):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from kreisel import animate, plot
+
+    top, tr = tippe
+    fig = plot.play_time_series(tr)
+    strip = fig.axes[0]
+    assert [t.get_text() for t in strip.get_yticklabels()] == ["peg", "ball"]
+    legend = {t.get_text() for t in strip.get_legend().get_texts()}
+    assert legend == set(np.unique(tr.part_mode))
+    # the GIF titles: at a time on the ball alone and at one on the peg alone
+    frames = animate.sample(tr, 5, model=top, t_start=1.0, t_stop=2.0)
+    first = animate._contact_label(frames, 0)
+    last = animate._contact_label(frames, 4)
+    assert first == f"{frames.modes[0]}: ball {tr.part_modes['ball'][tr.t <= 1.0][-1]}"
+    assert last.endswith(f"peg {tr.part_modes['peg'][tr.t <= 2.0][-1]}") and "ball" not in last

@@ -66,7 +66,9 @@ _PER_PART = (
     "part_friction_force",
 )
 # The third axis of a per-part column: horizontal (x, y) or space (x, y, z).
-_PER_PART_AXIS = {"part_contact_point": ("space_axis", ("x", "y", "z"))}
+_PER_PART_AXIS: dict[str, tuple[str, tuple[str, ...]]] = {
+    "part_contact_point": ("space_axis", ("x", "y", "z"))
+}
 
 # Names of the second axis of 2-D columns.
 _COMPONENTS = {
@@ -272,8 +274,8 @@ class Trajectory:
             if name in _PER_PART:
                 coords["part"] = ("part", list(self._part_labels(np.shape(col)[1])))
                 if np.ndim(col) == 3:
-                    dim, labels = _PER_PART_AXIS.get(name, ("horizontal_axis", ("x", "y")))
-                    coords[dim] = (dim, list(labels))
+                    axis, names = _PER_PART_AXIS.get(name, ("horizontal_axis", ("x", "y")))
+                    coords[axis] = (axis, list(names))
             elif np.ndim(col) == 2:
                 dim, labels = _COMPONENTS.get(name, _SPACE)
                 coords[dim] = (dim, list(labels))

@@ -229,7 +229,9 @@ impl PyRun {
     /// The diagnostics columns of the run's rows. Heavy tops: Euler angles (phi, psi
     /// unwrapped), energy, Mz, and M3 and Kovalevskaya's K where they are integrals. Play
     /// tops: Euler angles, u, contact point, slip velocity and speed, normal force,
-    /// Jellett's J and the energy and its parts.
+    /// Jellett's J, the energy and its parts, and per part: contact, normal force, slip
+    /// velocity, contact state (codes of `names()["part_modes"]`), contact point and
+    /// friction force.
     fn columns<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let d = PyDict::new(py);
         match &self.rows {

@@ -538,3 +538,67 @@ impl Accumulate<PlayRow> for PlayAcc<'_> {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::parts::Shape;
+    use super::super::Friction;
+    use super::*;
+    use crate::rotation::Quat;
+
+    /// A ball on the floor, upright, turning at `omega` (body = space frame) with G at `v`.
+    fn row(friction: Friction, mode: Mode, omega: [f64; 3], v: [f64; 2]) -> (PlayTop, PlayRow) {
+        let parts = [Shape::Sphere {
+            radius: 0.015,
+            z: -0.003,
+        }];
+        let top = PlayTop::with_parts(
+            0.006, 8e-7, 7e-7, &parts, 9.81, friction, 0.0, 0.0, 0.0, 0.0,
+        )
+        .unwrap();
+        let y = top.state(Quat::IDENTITY, omega, v[0], v[1], None).unwrap();
+        let mut contacts = Contacts::NONE;
+        contacts.mode[0] = mode;
+        (top, PlayRow { y, contacts })
+    }
+
+    #[test]
+    fn a_contensou_patch_slides_only_where_it_slips_faster_than_it_spins() {
+        let law = Friction::coulomb_contensou(0.3, 5e-4).unwrap();
+        let rbar = law.rbar();
+        // spinning at 100 rad/s about the vertical: the patch's spin speed is 100 rbar
+        for (slip, want) in [
+            (0.5 * 100.0 * rbar, PartState::Drilling),
+            (2.0 * 100.0 * rbar, PartState::Sliding),
+        ] {
+            // the contact point of an upright ball turning about the vertical slips with G
+            let (top, r) = row(law, Mode::Slip, [0.0, 0.0, 100.0], [slip, 0.0]);
+            assert_eq!(top.part_states(&r)[0], want, "slip {slip}");
+            let mode = if want == PartState::Sliding {
+                Mode::Slip
+            } else {
+                Mode::Roll
+            };
+            assert_eq!(top.contact_mode(&r), mode);
+        }
+    }
+
+    #[test]
+    fn point_coulomb_friction_takes_the_engines_mode() {
+        let law = Friction::Coulomb { mu: 0.3 };
+        let (top, r) = row(law, Mode::Slip, [0.0, 0.0, 100.0], [1e-9, 0.0]);
+        assert_eq!(top.part_states(&r)[0], PartState::Sliding);
+        assert_eq!(top.contact_mode(&r), r.mode());
+        let (top, r) = row(law, Mode::Roll, [0.0, 0.0, 100.0], [0.0, 0.0]);
+        assert_eq!(top.part_states(&r)[0], PartState::Drilling);
+        // rolling about a horizontal axis (G moving with it: no slip)
+        let (top, r) = row(law, Mode::Roll, [0.0, 10.0, 1.0], [10.0 * 0.018, 0.0]);
+        assert_eq!(top.part_states(&r)[0], PartState::Rolling);
+        let (top, r) = row(law, Mode::Flight, [0.0, 10.0, 1.0], [0.0, 0.0]);
+        assert_eq!(top.part_states(&r)[0], PartState::Flight);
+        assert_eq!(top.contact_mode(&r), Mode::Flight);
+        for (k, s) in PartState::ALL.iter().enumerate() {
+            assert_eq!(s.code() as usize, k);
+        }
+    }
+}

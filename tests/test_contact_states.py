@@ -219,3 +219,17 @@ def test_the_figure_draws_one_band_per_part_and_the_titles_name_the_parts(tippe)
     last = animate._contact_label(frames, 4)
     assert first == f"{frames.modes[0]}: ball {tr.part_modes['ball'][tr.t <= 1.0][-1]}"
     assert last.endswith(f"peg {tr.part_modes['peg'][tr.t <= 2.0][-1]}") and "ball" not in last
+
+
+def test_the_interactive_animations_frames_name_the_parts_states(tippe):
+    pytest.importorskip("plotly")
+    from kreisel import animate
+
+    top, tr = tippe
+    fig = animate.figure(tr, frames=3, model=top, t_start=1.0, t_stop=2.0)
+    titles = [fr.layout.title.text for fr in fig.frames]
+    ball = tr.part_modes["ball"][tr.t <= 1.0][-1]
+    peg = tr.part_modes["peg"][tr.t <= 2.0][-1]
+    mode = tr.mode[tr.t <= 1.0][-1]
+    assert titles[0].endswith(f"t = 1.000 s ({mode}: ball {ball})")
+    assert titles[-1].endswith(f"peg {peg})") and "ball" not in titles[-1].split("(")[-1]

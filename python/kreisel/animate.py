@@ -766,10 +766,19 @@ def figure(
         zr = [centre[2] - half, centre[2] + half]
     data = [body(0), *lines(0), *static]
     n_dyn = 2 + (1 if play else 0)
+    head = title or f"{type(model).__name__}: drag to rotate, scroll to zoom"
+
+    def frame_layout(i):
+        # a play top's frame names its contact: the top's mode, each touching part's state
+        if f.modes is None:
+            return None
+        return dict(title=dict(text=f"{head}   t = {f.t[i]:.3f} s ({_contact_label(f, i)})"))
+
     fr = [
-        go.Frame(data=[body(i, full=False), *lines(i)], traces=list(range(n_dyn)), name=f"{i}")
+        go.Frame(data=[body(i, full=False), *lines(i)], traces=list(range(n_dyn)), name=f"{i}",
+                 layout=frame_layout(i))
         for i in range(len(f))
-    ]
+    ]  # fmt: skip
     duration = 80
     steps = [
         dict(method="animate", label=f"{f.t[i]:.2f}" if i % max(1, len(f) // 6) == 0 else "",
@@ -786,7 +795,7 @@ def figure(
         return dict(title=f"{name} ({unit})", range=list(rng), tickvals=list(ticks), ticktext=text)
 
     fig.update_layout(
-        title=title or f"{type(model).__name__}: drag to rotate, scroll to zoom",
+        title=head if f.modes is None else f"{head}   t = {f.t[0]:.3f} s ({_contact_label(f, 0)})",
         scene=dict(
             xaxis=ax("x", (centre[0] - half, centre[0] + half)),
             yaxis=ax("y", (centre[1] - half, centre[1] + half)),

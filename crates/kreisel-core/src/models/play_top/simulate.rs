@@ -145,11 +145,14 @@ impl PlayTop {
     /// ([`PlayRow::mode`]); under Coulomb-Contensou friction a top whose patches pivot
     /// without sliding rolls.
     pub fn contact_mode(&self, r: &PlayRow) -> Mode {
+        // Only a Coulomb-Contensou part in the engine's slip mode may pivot without sliding:
+        // every other row is the engine's mode (no kinematics needed).
+        let engine = r.mode();
+        if engine != Mode::Slip || r.contacts.flat || self.friction.rbar() <= 0.0 {
+            return engine;
+        }
         let states = self.part_states(r);
         let states = &states[..self.parts.n];
-        if r.contacts.flat {
-            return r.mode();
-        }
         if states.contains(&PartState::Sliding) {
             Mode::Slip
         } else if states.iter().any(|&s| s != PartState::Flight) {

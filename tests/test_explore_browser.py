@@ -337,6 +337,7 @@ def test_the_egg_is_drawn_without_z_fighting(browser, server):
 
     open_page(browser, server.url + "?preset=egg")
     browser.find_element(By.ID, "traces").click()  # no trace over the body
+    browser.find_element(By.ID, "forces").click()  # nor the contact's arrows (a blue one)
     seek(browser, 0.0)
     png = browser.find_element(By.CSS_SELECTOR, "#view3d canvas").screenshot_as_png
     rgb = np.asarray(Image.open(io.BytesIO(png)).convert("RGB")).astype(int)

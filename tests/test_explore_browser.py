@@ -337,6 +337,7 @@ def test_the_egg_is_drawn_without_z_fighting(browser, server):
 
     open_page(browser, server.url + "?preset=egg")
     browser.find_element(By.ID, "traces").click()  # no trace over the body
+    browser.find_element(By.ID, "forces").click()  # nor the contact's arrows (a blue one)
     seek(browser, 0.0)
     png = browser.find_element(By.CSS_SELECTOR, "#view3d canvas").screenshot_as_png
     rgb = np.asarray(Image.open(io.BytesIO(png)).convert("RGB")).astype(int)
@@ -677,3 +678,73 @@ def test_a_shaken_top_shows_its_pivot_and_follows_it(browser, server):
     assert min(browser.execute_script("return window.explore.run.series.u")) < 0.0
     open_page(browser, server.url + BALL)
     assert browser.find_element(By.ID, "fs-pivot").get_attribute("hidden")
+
+
+def test_the_contact_arrows_and_each_parts_track_follow_the_tippe_top(browser, server):
+    """The tippe top with its peg: in the 3D view, a contact point, a normal-force arrow and a
+    friction arrow for each part touching, where the part's sphere reaches the floor (its
+    lowest point, from the run's own orientation and centre of mass) and sized by
+    kreisel.simulate's forces; the chart of each part's contact state; both change as the
+    top turns over onto its peg; the forces checkbox hides the arrows."""
+    open_page(browser, server.url + "?preset=tippe")
+    problem = from_tables(preset("tippe"))
+    traj = kreisel.simulate(problem.model, problem.state, 8.0, rtol=1e-9,
+                            t_eval=np.linspace(0.0, 8.0, 2001))  # fmt: skip
+    shape = problem.model.shape
+    arrows = (
+        "const v = window.explore.view; return [v.arrowSample, v.forceScale,"
+        " v.arrows.map((a) => [a.part, a.point.visible, a.normal.visible,"
+        " a.point.position.toArray(), a.normal.userData.force, a.friction.userData.force,"
+        " a.friction.userData.direction, a.normal.scale.y])]"
+    )
+    seen = []
+    for t, touching in ((1.0, "ball"), (2.0, "peg")):
+        seek(browser, t)
+        k, scale, shown = browser.execute_script(arrows)
+        assert browser.execute_script("return window.explore.run.t")[k] == traj.t[k]
+        assert [a[0] for a in shown] == ["ball", "peg"]
+        # the arrows stand where the part's sphere touches the floor: its lowest point
+        q = traj.quaternion[k]
+        for part, (name, visible, normal_visible, at, n, f, direction, _) in zip(shape, shown):
+            lowest = traj.com[k] + _rotate(q, [0.0, 0.0, part.z]) - [0, 0, part.radius]
+            assert visible == normal_visible == (name == touching), (t, name)
+            if name == touching:
+                assert abs(lowest[2]) < 1e-9
+                np.testing.assert_allclose(at[:2], lowest[:2], atol=1e-6)
+                assert n == pytest.approx(traj.part_normal_force[k, shape.index(part)], rel=1e-6)
+                ff = traj.part_friction_force[k, shape.index(part)]
+                assert f == pytest.approx(np.hypot(*ff), rel=1e-6, abs=1e-12)
+                if f > 0:
+                    np.testing.assert_allclose(direction, ff / np.hypot(*ff), atol=1e-6)
+            else:
+                assert lowest[2] > 1e-6
+        seen.append((k, shown))
+        parts_now = text(browser, "parts-now")
+        assert parts_now == ", ".join(f"{p} {traj.part_modes[p][k]}" for p in ("ball", "peg"))
+    assert seen[0][1] != seen[1][1]
+    # the chart of each part's contact state, one series per part, changing over the run
+    track = browser.execute_script(
+        "const c = window.explore.charts.plots.find((p) => p.plot.root.dataset.chart"
+        " === 'part_state_0'); return c && [c.plot.series.map((s) => s.label), c.plot.data[1],"
+        " c.plot.data[2]]"
+    )
+    assert track is not None and track[0][1:] == ["ball", "peg"]
+    states = browser.execute_script("return window.explore.run.contacts.states")
+    assert [states[round(v)] for v in track[1]] == list(traj.part_modes["ball"])
+    assert len(set(track[1])) > 1 and len(set(track[2])) > 1
+    assert browser.find_element(By.CSS_SELECTOR, '#legend [data-trace="normal"]').is_displayed()
+    # the checkbox hides the arrows and their legend
+    browser.find_element(By.ID, "forces").click()
+    seek(browser, 1.0)
+    k, _, shown = browser.execute_script(arrows)
+    assert not any(a[1] or a[2] for a in shown)
+    assert not browser.find_element(By.CSS_SELECTOR, '#legend [data-trace="normal"]').is_displayed()
+    open_page(browser, server.url + BALL)  # as the other tests expect it
+
+
+def _rotate(q, v):
+    """v turned by the unit quaternion q (w, x, y, z), written out: v + 2 w (u x v) + 2 u x
+    (u x v)."""
+    w, u = q[0] / np.linalg.norm(q), np.asarray(q[1:]) / np.linalg.norm(q)
+    uv = np.cross(u, v)
+    return np.asarray(v) + 2 * w * uv + 2 * np.cross(u, uv)

@@ -637,8 +637,23 @@ def _report(problem, data: dict, out: Path):
             shown = ", ".join(f"{e['part']} {words[e['name']]} {_num(e['t'], '.4f')} s"
                               for e in steps[:6])  # fmt: skip
             more = f" (+{len(steps) - 6} more)" if len(steps) > 6 else ""
-            end = ", ".join(n for n, p in parts.items() if p["in_contact_at_end"]) or "none"
+            end = (
+                ", ".join(
+                    n + (f" ({p['state_at_end']})" if p.get("state_at_end") else "")
+                    for n, p in parts.items()
+                    if p["in_contact_at_end"]
+                )
+                or "none"
+            )
             click.echo(f"  contacts: {shown or 'no change'}{more}; on the floor at the end: {end}")
+        total = max(1, res["samples"])
+        shares = [
+            f"{name} " + ", ".join(f"{k} {100 * v / total:.0f}%" for k, v in p["states"].items())
+            for name, p in parts.items()
+            if p.get("states")
+        ]
+        if shares:
+            click.echo(f"  contact states (share of samples): {'; '.join(shares)}")
     drift = ", ".join(f"{k} {_num(v, '.1e')}" for k, v in res["invariant_drift"].items())
     if drift:
         click.echo(f"  largest relative drift: {drift}")

@@ -131,9 +131,17 @@ def summary(problem: Problem, traj) -> dict:
         res["modes"] = {m: int(np.count_nonzero(traj.mode == m)) for m in names()["modes"]}
         if len(traj):
             touching = traj.part_in_contact[-1]
+            states = traj.part_modes or {}
             res["parts"] = {
                 name: {
                     "in_contact_at_end": bool(touching[i]),
+                    # the part's contact state at the end and its samples in each state
+                    "state_at_end": str(states[name][-1]) if name in states else None,
+                    "states": {
+                        s: int(np.count_nonzero(states[name] == s))
+                        for s in names()["part_modes"]
+                        if name in states and np.any(states[name] == s)
+                    },
                     "first_touchdown": next(
                         (e.t for e in evs if e.name == "touchdown" and e.part == name), None
                     ),
@@ -176,7 +184,11 @@ def write_figure(name: str, problem: Problem, traj, path: Path):
     if name == "time_series":
         if problem.kind == "play":
             fig = plot.play_time_series(traj)
-            fig.suptitle(f"{title}: contact modes shaded (slip tan, roll blue, flight green)")
+            fig.suptitle(
+                f"{title}: the top's contact mode shaded (slip tan, roll blue, flight green), "
+                "each part's state above",
+                fontsize=10,
+            )
         else:
             fig = plot.rigid_time_series(traj)
             fig.suptitle(f"{title}: {repr(problem.model)}", fontsize=9)

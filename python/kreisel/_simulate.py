@@ -300,7 +300,7 @@ def simulate(
         return None if i < 0 or names_of_parts is None else names_of_parts[i]
 
     records = [EventRecord(name, t, index, part_name(p)) for name, t, index, p in out.pop("events")]
-    later = Deferred(out.pop("run").columns)
+    later = Deferred(functools.partial(_named_columns, out.pop("run")))
     cols = dict.fromkeys(out.pop("derived"), later)
     if "mode" in out:
         cols["mode"] = np.array(names()["modes"])[out.pop("mode")]
@@ -312,6 +312,14 @@ def simulate(
         cols, model=model, state=state, method=method, stats=stats, events=records,
         status=status, **meta,
     )  # fmt: skip
+
+
+def _named_columns(run) -> dict[str, Any]:
+    """The diagnostics columns of a native run, the per-part contact states as names."""
+    cols = run.columns()
+    if "part_mode" in cols:
+        cols["part_mode"] = np.array(names()["part_modes"])[cols["part_mode"]]
+    return cols
 
 
 def _sensitivity_names(value) -> list[str]:

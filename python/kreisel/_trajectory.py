@@ -35,7 +35,7 @@ COLUMNS = {
     "slip_speed": ("m/s", "slip speed"),
     "normal_force": ("N", "normal force of the floor"),
     "jellett": ("kg m^2/s", "Jellett's integral"),
-    "mode": ("", "contact mode: slip, roll or flight"),
+    "mode": ("", "contact mode: slip (a part slides), roll (every touching part sticks), flight"),
     "energy_translation": ("J", "translational kinetic energy"),
     "energy_rotation": ("J", "rotational kinetic energy"),
     "energy_potential": ("J", "potential energy m g z_G"),
@@ -51,10 +51,24 @@ COLUMNS = {
     "part_in_contact": ("", "whether each contact part touches the floor"),
     "part_normal_force": ("N", "normal force at each contact part"),
     "part_slip_velocity": ("m/s", "slip velocity (x, y) at each contact part"),
+    "part_mode": ("", "contact state of each part: flight, rolling, drilling, sliding or flat"),
+    "part_contact_point": ("m", "contact point (lowest point) of each part, space frame"),
+    "part_friction_force": ("N", "friction force (x, y) at each contact part"),
 }
 
 # Columns with one entry per contact part (second axis "part"; the third, if any, "horizontal").
-_PER_PART = ("part_in_contact", "part_normal_force", "part_slip_velocity")
+_PER_PART = (
+    "part_in_contact",
+    "part_normal_force",
+    "part_slip_velocity",
+    "part_mode",
+    "part_contact_point",
+    "part_friction_force",
+)
+# The third axis of a per-part column: horizontal (x, y) or space (x, y, z).
+_PER_PART_AXIS: dict[str, tuple[str, tuple[str, ...]]] = {
+    "part_contact_point": ("space_axis", ("x", "y", "z"))
+}
 
 # Names of the second axis of 2-D columns.
 _COMPONENTS = {
@@ -158,6 +172,39 @@ class Trajectory:
         return self._meta.get("sensitivities")
 
     @property
+    def part_modes(self) -> dict[str, np.ndarray] | None:
+        """Each contact part's state per sample, a dict from the part's name (in the order of
+        the top's ``shape``) to an array of str; None for a trajectory without parts.
+
+        The states are the engine's (the contact mode each part integrates in), not a
+        threshold on a slip speed: ``"flight"`` (not touching), ``"rolling"`` (sticking, the
+        angular velocity at least as much along the floor as about its normal, at rest
+        included), ``"drilling"`` (sticking, turning mainly about the floor's normal:
+        ``|omega_z| > |omega_horizontal|``, a top sleeping on its tip), ``"sliding"`` (slipping;
+        under Coulomb-Contensou friction a contact patch that spins about the normal slides
+        too, even at zero slip velocity) and ``"flat"`` (a ring lying flat on its face,
+        touching along its whole circle; whether it sticks is in ``mode``). The column
+        ``part_mode`` holds the same as an array (n, parts).
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> import kreisel
+        >>> from kreisel.shapes import Sphere
+        >>> top = kreisel.PlayTop(0.1, 4e-5, 4e-5, shape=[Sphere(0.02, z=0.0, name="ball")])
+        >>> s = top.state(theta=0.0, height=0.03)
+        >>> traj = kreisel.simulate(top, s, 0.2, t_eval=[0.0, 0.2])
+        >>> traj.part_modes["ball"].tolist()
+        ['flight', 'rolling']
+        """
+        cols = object.__getattribute__(self, "_cols")
+        if "part_mode" not in cols:
+            return None
+        states = self._column("part_mode")
+        names = self._part_labels(states.shape[1])
+        return {name: states[:, i] for i, name in enumerate(names)}
+
+    @property
     def columns(self) -> list[str]:
         """Names of the columns."""
         return list(self._cols)
@@ -214,7 +261,8 @@ class Trajectory:
             if col.ndim == 1:
                 dims = ("t",)
             elif name in _PER_PART:
-                dims = ("t", "part", "horizontal_axis")[: col.ndim]
+                third = _PER_PART_AXIS.get(name, ("horizontal_axis",))[0]
+                dims = ("t", "part", third)[: col.ndim]
             else:
                 dims = ("t", _COMPONENTS.get(name, _SPACE)[0])
             if col.dtype.kind == "U":
@@ -226,7 +274,8 @@ class Trajectory:
             if name in _PER_PART:
                 coords["part"] = ("part", list(self._part_labels(np.shape(col)[1])))
                 if np.ndim(col) == 3:
-                    coords["horizontal_axis"] = ("horizontal_axis", ["x", "y"])
+                    axis, names = _PER_PART_AXIS.get(name, ("horizontal_axis", ("x", "y")))
+                    coords[axis] = (axis, list(names))
             elif np.ndim(col) == 2:
                 dim, labels = _COMPONENTS.get(name, _SPACE)
                 coords[dim] = (dim, list(labels))
@@ -261,8 +310,8 @@ class Trajectory:
                     if col.ndim == 2:
                         flat[f"{name}_{part}"] = col[:, j]
                     else:
-                        flat[f"{name}_{part}_x"] = col[:, j, 0]
-                        flat[f"{name}_{part}_y"] = col[:, j, 1]
+                        for k, axis in enumerate("xyz"[: col.shape[2]]):
+                            flat[f"{name}_{part}_{axis}"] = col[:, j, k]
             else:
                 for j, label in enumerate(_COMPONENTS.get(name, _SPACE)[1]):
                     flat[f"{name}_{label}"] = col[:, j]
@@ -281,7 +330,7 @@ class Trajectory:
             if col.dtype.kind in "fi" and col.size:
                 rng = f"{np.nanmin(col):.6g} … {np.nanmax(col):.6g}"
             elif col.dtype.kind == "U" and col.size:
-                rng = ", ".join(sorted(set(col.tolist())))
+                rng = ", ".join(sorted(set(col.ravel().tolist())))
             else:
                 rng = ""
             shape = "×".join(str(n) for n in col.shape)

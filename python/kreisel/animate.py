@@ -303,6 +303,11 @@ class Frames:
         The contact mode (play tops).
     dense : Frames or None
         The same at several times per frame, for the traces.
+    parts : tuple of str or None
+        The names of the contact parts (play tops).
+    part_modes : ndarray (n, parts) of str or None
+        Each part's contact state (``Trajectory.part_modes``: flight, rolling, drilling,
+        sliding, flat).
     """
 
     t: np.ndarray
@@ -311,6 +316,8 @@ class Frames:
     contact: np.ndarray | None
     modes: np.ndarray | None
     dense: Frames | None = None
+    parts: tuple[str, ...] | None = None
+    part_modes: np.ndarray | None = None
 
     def __len__(self) -> int:
         return len(self.t)
@@ -352,7 +359,12 @@ def _at(traj, model, t) -> Frames:
     contact = _interp(t, ts, traj.contact_point)
     contact[:, 2] = 0.0
     idx = np.clip(np.searchsorted(ts, t, side="right") - 1, 0, len(ts) - 1)
-    return Frames(t, rot, origin, contact, np.asarray(traj.mode)[idx])
+    states = traj.part_modes
+    if not states:
+        return Frames(t, rot, origin, contact, np.asarray(traj.mode)[idx])
+    parts = tuple(states)
+    per_part = np.stack([np.asarray(states[p])[idx] for p in parts], axis=1)
+    return Frames(t, rot, origin, contact, np.asarray(traj.mode)[idx], None, parts, per_part)
 
 
 def sample(
@@ -381,7 +393,19 @@ def sample(
     n_dense = min(3000, max(frames * 10, int(np.count_nonzero((ts >= a) & (ts <= b)))))
     dense = _at(traj, model, np.linspace(a, b, n_dense))
     f = _at(traj, model, t)
-    return Frames(f.t, f.rotation, f.origin, f.contact, f.modes, dense)
+    return Frames(f.t, f.rotation, f.origin, f.contact, f.modes, dense, f.parts, f.part_modes)
+
+
+def _contact_label(f: Frames, i: int) -> str:
+    """The contact of frame ``i`` for a title: the top's mode, then each part touching and
+    its state (``"slip: ball sliding"``, ``"roll: peg drilling"``; ``"flight"`` when none
+    touches)."""
+    assert f.modes is not None
+    mode = str(f.modes[i])
+    if f.parts is None or f.part_modes is None:
+        return mode
+    touching = [f"{p} {s}" for p, s in zip(f.parts, f.part_modes[i]) if s != "flight"]
+    return f"{mode}: {', '.join(touching)}" if touching else mode
 
 
 # -- drawing with matplotlib -------------------------------------------------------------------
@@ -540,7 +564,7 @@ class _Scene:
             self.rod.set_data_3d(*(np.array([o, x]) for o, x in zip(origin, p)))
         label = f"t = {f.t[i]:.3f} s"
         if f.modes is not None:
-            label += f"   ({f.modes[i]})"
+            label += f"   ({_contact_label(f, i)})"
         self.text.set_text(f"{self.title}   {label}" if self.title else label)
 
     def rgb(self, i) -> np.ndarray:
@@ -742,10 +766,19 @@ def figure(
         zr = [centre[2] - half, centre[2] + half]
     data = [body(0), *lines(0), *static]
     n_dyn = 2 + (1 if play else 0)
+    head = title or f"{type(model).__name__}: drag to rotate, scroll to zoom"
+
+    def frame_layout(i):
+        # a play top's frame names its contact: the top's mode, each touching part's state
+        if f.modes is None:
+            return None
+        return dict(title=dict(text=f"{head}   t = {f.t[i]:.3f} s ({_contact_label(f, i)})"))
+
     fr = [
-        go.Frame(data=[body(i, full=False), *lines(i)], traces=list(range(n_dyn)), name=f"{i}")
+        go.Frame(data=[body(i, full=False), *lines(i)], traces=list(range(n_dyn)), name=f"{i}",
+                 layout=frame_layout(i))
         for i in range(len(f))
-    ]
+    ]  # fmt: skip
     duration = 80
     steps = [
         dict(method="animate", label=f"{f.t[i]:.2f}" if i % max(1, len(f) // 6) == 0 else "",
@@ -762,7 +795,7 @@ def figure(
         return dict(title=f"{name} ({unit})", range=list(rng), tickvals=list(ticks), ticktext=text)
 
     fig.update_layout(
-        title=title or f"{type(model).__name__}: drag to rotate, scroll to zoom",
+        title=head if f.modes is None else f"{head}   t = {f.t[0]:.3f} s ({_contact_label(f, 0)})",
         scene=dict(
             xaxis=ax("x", (centre[0] - half, centre[0] + half)),
             yaxis=ax("y", (centre[1] - half, centre[1] + half)),

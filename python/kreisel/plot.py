@@ -124,7 +124,9 @@ _MODE_COLOURS = {"slip": "#f3d9b1", "roll": "#cfe3f5", "flight": "#d9f0d3"}
 
 
 def shade_modes(ax: Axes, traj: Trajectory) -> Axes:
-    """Shades the contact modes (slip, roll, flight) of a play-top trajectory behind ``ax``."""
+    """Shades the contact modes (slip, roll, flight) of a play-top trajectory behind ``ax``:
+    the top's ``mode`` (slip where a part slides, roll where parts touch and none slides);
+    each part's own state is drawn by :func:`part_states`."""
     t, mode = traj.t, traj.mode
     if len(t) == 0:
         return ax
@@ -135,6 +137,71 @@ def shade_modes(ax: Axes, traj: Trajectory) -> Axes:
             ax.axvspan(float(t[start]), end, color=_MODE_COLOURS[str(mode[start])], lw=0,
                        zorder=0)  # fmt: skip
             start = i
+    return ax
+
+
+# Colours of the parts' contact states (``Trajectory.part_modes``): sliding in the tan of
+# "slip", rolling and drilling in blues like "roll", flight in the green of "flight".
+PART_STATE_COLOURS = {
+    "flight": "#d9f0d3",
+    "rolling": "#7fb2e0",
+    "drilling": "#1f5fa8",
+    "sliding": "#e0a050",
+    "flat": "#9a9a9a",
+}
+
+
+def part_states(ax: Axes, traj: Trajectory, *, legend: bool = True) -> Axes:
+    """One horizontal band per contact part of a play-top trajectory (named on the y axis,
+    the first part of the top's ``shape`` at the top), coloured by the part's contact state
+    over time (``traj.part_modes``: flight, rolling, drilling, sliding, flat), with a legend
+    of the states that occur. Returns ``ax``.
+
+    Examples
+    --------
+    >>> import matplotlib
+    >>> matplotlib.use("Agg")
+    >>> import matplotlib.pyplot as plt
+    >>> from kreisel import plot, simulate
+    >>> from kreisel._config import from_tables, preset
+    >>> p = from_tables(preset("tippe"))
+    >>> run = simulate(p.model, p.state, 2.0, rtol=1e-9)
+    >>> ax = plot.part_states(plt.figure().gca(), run)
+    >>> [t.get_text() for t in ax.get_yticklabels()]
+    ['peg', 'ball']
+    >>> sorted(t.get_text() for t in ax.get_legend().get_texts())
+    ['drilling', 'flight', 'sliding']
+    """
+    modes = traj.part_modes
+    if not modes:
+        return ax
+    t = np.asarray(traj.t, dtype=float)
+    names = list(modes)
+    seen: list[str] = []
+    for row, name in enumerate(names):
+        y = len(names) - 1 - row
+        label = np.asarray(modes[name])
+        start = 0
+        for i in range(1, len(t) + 1):
+            if i == len(t) or label[i] != label[start]:
+                end = float(t[min(i, len(t) - 1)])
+                state = str(label[start])
+                ax.broken_barh([(float(t[start]), end - float(t[start]))], (y - 0.4, 0.8),
+                               color=PART_STATE_COLOURS.get(state, "k"), lw=0)  # fmt: skip
+                if state not in seen:
+                    seen.append(state)
+                start = i
+    ax.set_yticks(range(len(names)), names[::-1])
+    ax.set_ylim(-0.6, len(names) - 0.4)
+    if len(t):
+        ax.set_xlim(float(t[0]), float(t[-1]))
+    if legend and seen:
+        from matplotlib.patches import Patch
+
+        order = [s for s in PART_STATE_COLOURS if s in seen]
+        ax.legend(handles=[Patch(color=PART_STATE_COLOURS[s], label=s) for s in order],
+                  loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize=8,
+                  title="contact state", title_fontsize=8)  # fmt: skip
     return ax
 
 
@@ -193,11 +260,21 @@ def parts_panels(
 
 def play_time_series(traj: Trajectory, fig: Figure | None = None) -> Figure:
     """u, normal force, slip speed, Jellett's integral and the energy over time for a
-    play-top trajectory, with the contact modes shaded (slip tan, roll blue, flight green)."""
+    play-top trajectory, with the top's contact modes shaded (slip tan, roll blue, flight
+    green) and, above, one band per contact part coloured by its state (:func:`part_states`).
+    """
     plt = _pyplot()
     if fig is None:
-        fig = plt.figure(figsize=(9, 10))
-    axes = fig.subplots(5, 1, sharex=True)
+        fig = plt.figure(figsize=(9, 11))
+    modes = traj.part_modes
+    if modes:
+        # a strip of one band per part above the five panels
+        ratios = [0.3 + 0.25 * len(modes)] + [1] * 5
+        strip, *axes = fig.subplots(6, 1, sharex=True, gridspec_kw={"height_ratios": ratios})
+        part_states(strip, traj)
+        strip.set_title("each part's contact state", fontsize=9, loc="left")
+    else:
+        axes = list(fig.subplots(5, 1, sharex=True))
     t = traj.t
     rows = [
         (traj.u, r"$u = \cos\theta$"),

@@ -9,7 +9,7 @@ use crate::play::PyPlayTop;
 use kreisel_core::models::heavy_top::driven::{Damping, DrivenRow, DrivenTop, Pivot};
 use kreisel_core::models::heavy_top::HeavyTop;
 use kreisel_core::models::heavy_top::RigidState;
-use kreisel_core::models::play_top::simulate::PlayRow;
+use kreisel_core::models::play_top::simulate::{PartState, PlayRow};
 use kreisel_core::models::play_top::{PlayTop, DIM};
 use kreisel_core::simulate as core;
 use kreisel_core::simulate::{
@@ -229,7 +229,9 @@ impl PyRun {
     /// The diagnostics columns of the run's rows. Heavy tops: Euler angles (phi, psi
     /// unwrapped), energy, Mz, and M3 and Kovalevskaya's K where they are integrals. Play
     /// tops: Euler angles, u, contact point, slip velocity and speed, normal force,
-    /// Jellett's J and the energy and its parts.
+    /// Jellett's J, the energy and its parts, and per part: contact, normal force, slip
+    /// velocity, contact state (codes of `names()["part_modes"]`), contact point and
+    /// friction force.
     fn columns<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let d = PyDict::new(py);
         match &self.rows {
@@ -309,6 +311,31 @@ impl PyRun {
                 d.set_item(
                     "part_slip_velocity",
                     slip.into_pyarray(py).reshape([n, np, 2])?,
+                )?;
+                // Codes (see `names()["part_modes"]`), converted to names in Python.
+                let state: Vec<u8> = c
+                    .part_state
+                    .iter()
+                    .flat_map(|r| r[..np].iter().map(|s| s.code()))
+                    .collect();
+                let point: Vec<f64> = c
+                    .part_contact_point
+                    .iter()
+                    .flat_map(|r| r[..np].iter().flat_map(|v| v.iter().copied()))
+                    .collect();
+                let friction: Vec<f64> = c
+                    .part_friction_force
+                    .iter()
+                    .flat_map(|r| r[..np].iter().flat_map(|v| v.iter().copied()))
+                    .collect();
+                d.set_item("part_mode", state.into_pyarray(py).reshape([n, np])?)?;
+                d.set_item(
+                    "part_contact_point",
+                    point.into_pyarray(py).reshape([n, np, 3])?,
+                )?;
+                d.set_item(
+                    "part_friction_force",
+                    friction.into_pyarray(py).reshape([n, np, 2])?,
                 )?;
             }
         }
@@ -405,7 +432,12 @@ pub fn simulate<'py>(
             let dissipated: Vec<f64> = out.rows.iter().map(|r| r.y[13]).collect();
             d.set_item("dissipated", dissipated.into_pyarray(py))?;
             // Codes (see `names()["modes"]`): one array, not a Python string per output.
-            let modes: Vec<u8> = out.rows.iter().map(|r| r.mode().code()).collect();
+            // The top's mode from its parts' states (`PlayTop::contact_mode`).
+            let modes: Vec<u8> = out
+                .rows
+                .iter()
+                .map(|r| top.contact_mode(r).code())
+                .collect();
             d.set_item("mode", modes.into_pyarray(py))?;
             d.set_item("derived", PlayTop::COLUMN_NAMES.to_vec())?;
             info_into(py, &d, &out.info)?;
@@ -614,6 +646,7 @@ pub fn check_settings(
 pub fn names(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
     let d = PyDict::new(py);
     d.set_item("modes", MODES.to_vec())?;
+    d.set_item("part_modes", PartState::ALL.map(|s| s.name()).to_vec())?;
     d.set_item("motion_kinds", MOTION_KINDS.to_vec())?;
     let fields = PyList::empty(py);
     for f in SUMMARY_FIELDS {

@@ -244,6 +244,9 @@ def run(tables: dict) -> dict:
         out["com"] = _column(traj.com)
         out["contact_point"] = _column(traj.contact_point)
         series["mode"] = [modes.index(str(m)) for m in traj.mode]
+        out["contacts"] = contacts_of(p, traj)
+        for i, codes in enumerate(out["contacts"]["state"]):
+            series[f"part_state_{i}"] = codes
         for k in (
             "normal_force",
             "energy",
@@ -269,6 +272,28 @@ def run(tables: dict) -> dict:
             series["kinetic"] = _column(np.asarray(traj.energy) - np.asarray(traj.potential))
     out["series"] = series
     return out
+
+
+def contacts_of(p: Problem, traj) -> dict:
+    """Each contact part's state and forces for the page's contact-state chart and the 3D
+    view's arrows: the parts' names, the state names (``names()["part_modes"]``), per part
+    the state code, the contact point (m), the normal force (N) and the friction force (x, y;
+    N) at each sample, and the weight m g (N) the arrows are scaled by."""
+    from .._simulate import names
+
+    states = list(names()["part_modes"])
+    code = {s: k for k, s in enumerate(states)}
+    modes = traj.part_modes or {}
+    parts = list(modes)
+    return {
+        "parts": parts,
+        "states": states,
+        "state": [[code[str(s)] for s in modes[name]] for name in parts],
+        "point": [_column(traj.part_contact_point[:, i]) for i in range(len(parts))],
+        "normal": [_column(traj.part_normal_force[:, i]) for i in range(len(parts))],
+        "friction": [_column(traj.part_friction_force[:, i]) for i in range(len(parts))],
+        "weight": float(p.model.m * p.model.g),
+    }
 
 
 def toml(p: Problem) -> str:

@@ -38,6 +38,131 @@ impl PlayRow {
     }
 }
 
+/// One part's contact state in a row ([`PlayTop::part_states`]): whether it touches and
+/// sticks as the engine integrates it ([`Mode`]), whether its friction is mainly sliding
+/// friction (by the engine's own law, [`PlayTop::friction_per_n`]), and how it turns.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum PartState {
+    /// Not touching the floor.
+    #[default]
+    Flight,
+    /// Its contact point does not slide (sticking, or a Coulomb-Contensou patch turning
+    /// about its normal faster than it slips), the angular velocity at least as much along
+    /// the floor as about its normal (at rest included).
+    Rolling,
+    /// As rolling, but turning mainly about the floor's normal (|w_z| > |w_h|: a top
+    /// sleeping on its tip).
+    Drilling,
+    /// Sliding: the engine's [`Mode::Slip`] with a friction force that is mostly tangential
+    /// (under point Coulomb or viscous friction every slipping part; under
+    /// Coulomb-Contensou friction a part whose slip speed exceeds rbar |w_z|).
+    Sliding,
+    /// A ring lying flat on the floor, touching along its whole circle (sticking or sliding:
+    /// [`PlayTop::contact_mode`] tells which).
+    Flat,
+}
+
+impl PartState {
+    /// Every state, by code.
+    pub const ALL: [PartState; 5] = [
+        PartState::Flight,
+        PartState::Rolling,
+        PartState::Drilling,
+        PartState::Sliding,
+        PartState::Flat,
+    ];
+
+    /// The public name.
+    pub const fn name(&self) -> &'static str {
+        match self {
+            PartState::Flight => "flight",
+            PartState::Rolling => "rolling",
+            PartState::Drilling => "drilling",
+            PartState::Sliding => "sliding",
+            PartState::Flat => "flat",
+        }
+    }
+
+    /// Small integer code: the position in [`PartState::ALL`].
+    pub const fn code(&self) -> u8 {
+        *self as u8
+    }
+
+    /// A touching part that does not slide, turning at `w` (space frame): drilling if it
+    /// turns more about the vertical than about a horizontal axis, else rolling.
+    fn turning(w: [f64; 3]) -> PartState {
+        if w[2].abs() > w[0].hypot(w[1]) {
+            PartState::Drilling
+        } else {
+            PartState::Rolling
+        }
+    }
+}
+
+impl PlayTop {
+    /// Whether part `i`, in the engine's [`Mode::Slip`] with slip velocity `vp` and turning
+    /// at `w`, slides: its friction ([`PlayTop::friction_per_n`], the law the engine
+    /// integrates) is mostly a tangential force rather than a drilling torque,
+    /// `|f_t| > |m_z| / rbar`. Under Coulomb-Contensou friction `|f_t| rbar / |m_z| = |v| /
+    /// (rbar |w_z|)`: a patch that spins about the normal faster than it slips pivots on
+    /// the floor (it rolls or drills); under every other law a slipping part slides.
+    fn slides(&self, c: &Contacts, i: usize, vp: [f64; 3], w: [f64; 3]) -> bool {
+        let rb = self.friction.rbar();
+        if rb <= 0.0 {
+            return true;
+        }
+        let (ft, mz) = self.friction_per_n(vp, w[2], c.dir[i], c.creep);
+        ft[0].hypot(ft[1]) * rb > mz.abs()
+    }
+
+    /// Every part's contact state in a row (the first [`PlayTop::parts`]`.n` are used; the
+    /// rest are flight).
+    pub fn part_states(&self, r: &PlayRow) -> [PartState; MAX_PARTS] {
+        let k = self.kin(&r.y);
+        let c = &r.contacts;
+        let mut out = [PartState::Flight; MAX_PARTS];
+        for (i, s) in out.iter_mut().enumerate().take(self.parts.n) {
+            *s = match c.mode[i] {
+                Mode::Flight => PartState::Flight,
+                _ if c.flat => PartState::Flat,
+                Mode::Roll => PartState::turning(k.w),
+                Mode::Slip => {
+                    let vp = self.parts.shape[i].point_velocity(k.v, k.w, k.e3);
+                    if self.slides(c, i, vp, k.w) {
+                        PartState::Sliding
+                    } else {
+                        PartState::turning(k.w)
+                    }
+                }
+            };
+        }
+        out
+    }
+
+    /// The contact mode of the whole top in a row, from its parts' states: slip if a part
+    /// slides (or a ring lying flat slips), roll if parts touch and none slides, else
+    /// flight. Under point Coulomb or viscous friction the engine's own
+    /// ([`PlayRow::mode`]); under Coulomb-Contensou friction a top whose patches pivot
+    /// without sliding rolls.
+    pub fn contact_mode(&self, r: &PlayRow) -> Mode {
+        // Only a Coulomb-Contensou part in the engine's slip mode may pivot without sliding:
+        // every other row is the engine's mode (no kinematics needed).
+        let engine = r.mode();
+        if engine != Mode::Slip || r.contacts.flat || self.friction.rbar() <= 0.0 {
+            return engine;
+        }
+        let states = self.part_states(r);
+        let states = &states[..self.parts.n];
+        if states.contains(&PartState::Sliding) {
+            Mode::Slip
+        } else if states.iter().any(|&s| s != PartState::Flight) {
+            Mode::Roll
+        } else {
+            Mode::Flight
+        }
+    }
+}
+
 /// The events a play top has besides its contact switches.
 const EVENTS: [EventKind; 2] = [EventKind::Inversion(0.0), EventKind::Rest];
 
@@ -134,12 +259,19 @@ pub struct PlayColumns {
     /// Each part's slip velocity (horizontal, space frame; m/s): the velocity of the
     /// material point at its lowest point.
     pub part_slip_velocity: Vec<[[f64; 2]; MAX_PARTS]>,
+    /// Each part's contact state ([`PartState`]).
+    pub part_state: Vec<[PartState; MAX_PARTS]>,
+    /// Each part's contact point (space frame; m): its lowest point (a ring lying flat: the
+    /// centre of its circle, on the floor).
+    pub part_contact_point: Vec<[[f64; 3]; MAX_PARTS]>,
+    /// Each part's friction force (horizontal, space frame; N), 0 for a part not touching.
+    pub part_friction_force: Vec<[[f64; 2]; MAX_PARTS]>,
 }
 
 impl PlayTop {
     /// The names of the diagnostics columns of a run ([`PlayTop::columns`]), the energy
     /// parts as three columns and their sum.
-    pub const COLUMN_NAMES: [&'static str; 16] = [
+    pub const COLUMN_NAMES: [&'static str; 19] = [
         "theta",
         "phi",
         "psi",
@@ -156,6 +288,9 @@ impl PlayTop {
         "part_in_contact",
         "part_normal_force",
         "part_slip_velocity",
+        "part_mode",
+        "part_contact_point",
+        "part_friction_force",
     ];
 
     /// The diagnostics of the rows of a play-top run.
@@ -178,6 +313,9 @@ struct Row {
     part_in_contact: [bool; MAX_PARTS],
     part_normal_force: [f64; MAX_PARTS],
     part_slip_velocity: [[f64; 2]; MAX_PARTS],
+    part_state: [PartState; MAX_PARTS],
+    part_contact_point: [[f64; 3]; MAX_PARTS],
+    part_friction_force: [[f64; 2]; MAX_PARTS],
 }
 
 /// The diagnostics of a row: the contact point, slip velocity and Jellett's integral are the first touching part's
@@ -192,6 +330,7 @@ fn row_of(top: &PlayTop, r: &PlayRow, angles: &mut crate::simulate::Unwrapped) -
     let mut dy = [0.0; DIM];
     let f = top.dynamics(&r.contacts, y, &mut dy);
     let (a, b, p) = top.energy_parts(y);
+    let states = top.part_states(r);
     let mut out = Row {
         u: k.e3[2],
         euler: (phi, theta, psi),
@@ -210,15 +349,23 @@ fn row_of(top: &PlayTop, r: &PlayRow, angles: &mut crate::simulate::Unwrapped) -
     let main = (0..n)
         .find(|&i| r.contacts.mode[i] != Mode::Flight)
         .unwrap_or(lowest);
-    for i in 0..n {
+    for (i, &state) in states.iter().enumerate().take(n) {
         let part = &top.parts.shape[i];
         let vp = part.point_velocity(k.v, k.w, k.e3);
         out.part_in_contact[i] = r.contacts.mode[i] != Mode::Flight;
         out.part_normal_force[i] = f.n[i];
         out.part_slip_velocity[i] = [vp[0], vp[1]];
+        out.part_state[i] = state;
+        out.part_friction_force[i] = f.ft[i];
+        let arm = part.arm(k.e3);
+        out.part_contact_point[i] = if out.part_state[i] == PartState::Flat {
+            let c = part.centre(k.e3);
+            [y[7] + c[0], y[8] + c[1], y[9] + arm[2]]
+        } else {
+            [y[7] + arm[0], y[8] + arm[1], y[9] + arm[2]]
+        };
         out.normal_force += f.n[i];
         if i == main {
-            let arm = part.arm(k.e3);
             out.contact = [y[7] + arm[0], y[8] + arm[1], y[9] + arm[2]];
             out.slip_velocity = vp;
             out.slip_speed = (vp[0] * vp[0] + vp[1] * vp[1]).sqrt();
@@ -249,6 +396,9 @@ fn columns_of(top: &PlayTop, all: &[PlayRow]) -> PlayColumns {
         part_in_contact: Vec::with_capacity(n),
         part_normal_force: Vec::with_capacity(n),
         part_slip_velocity: Vec::with_capacity(n),
+        part_state: Vec::with_capacity(n),
+        part_contact_point: Vec::with_capacity(n),
+        part_friction_force: Vec::with_capacity(n),
     };
     let mut angles = Unwrapped::default();
     let mut rows = [Row::default(); BLOCK];
@@ -274,6 +424,11 @@ fn columns_of(top: &PlayTop, all: &[PlayRow]) -> PlayColumns {
             .extend(rows.iter().map(|r| r.part_normal_force));
         c.part_slip_velocity
             .extend(rows.iter().map(|r| r.part_slip_velocity));
+        c.part_state.extend(rows.iter().map(|r| r.part_state));
+        c.part_contact_point
+            .extend(rows.iter().map(|r| r.part_contact_point));
+        c.part_friction_force
+            .extend(rows.iter().map(|r| r.part_friction_force));
     }
     c
 }
@@ -365,7 +520,7 @@ impl Accumulate<PlayRow> for PlayAcc<'_> {
         };
         PlaySummary {
             final_u: last.map_or(f64::NAN, |r| self.top.kin(&r.y).e3[2]),
-            final_mode: last.map_or(Mode::Flight, |r| r.mode()),
+            final_mode: last.map_or(Mode::Flight, |r| self.top.contact_mode(&r)),
             inversion_time: info
                 .events
                 .iter()
@@ -383,6 +538,70 @@ impl Accumulate<PlayRow> for PlayAcc<'_> {
             }),
             flat_time: at("flat"),
             rest_time: at("rest"),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::parts::Shape;
+    use super::super::Friction;
+    use super::*;
+    use crate::rotation::Quat;
+
+    /// A ball on the floor, upright, turning at `omega` (body = space frame) with G at `v`.
+    fn row(friction: Friction, mode: Mode, omega: [f64; 3], v: [f64; 2]) -> (PlayTop, PlayRow) {
+        let parts = [Shape::Sphere {
+            radius: 0.015,
+            z: -0.003,
+        }];
+        let top = PlayTop::with_parts(
+            0.006, 8e-7, 7e-7, &parts, 9.81, friction, 0.0, 0.0, 0.0, 0.0,
+        )
+        .unwrap();
+        let y = top.state(Quat::IDENTITY, omega, v[0], v[1], None).unwrap();
+        let mut contacts = Contacts::NONE;
+        contacts.mode[0] = mode;
+        (top, PlayRow { y, contacts })
+    }
+
+    #[test]
+    fn a_contensou_patch_slides_only_where_it_slips_faster_than_it_spins() {
+        let law = Friction::coulomb_contensou(0.3, 5e-4).unwrap();
+        let rbar = law.rbar();
+        // spinning at 100 rad/s about the vertical: the patch's spin speed is 100 rbar
+        for (slip, want) in [
+            (0.5 * 100.0 * rbar, PartState::Drilling),
+            (2.0 * 100.0 * rbar, PartState::Sliding),
+        ] {
+            // the contact point of an upright ball turning about the vertical slips with G
+            let (top, r) = row(law, Mode::Slip, [0.0, 0.0, 100.0], [slip, 0.0]);
+            assert_eq!(top.part_states(&r)[0], want, "slip {slip}");
+            let mode = if want == PartState::Sliding {
+                Mode::Slip
+            } else {
+                Mode::Roll
+            };
+            assert_eq!(top.contact_mode(&r), mode);
+        }
+    }
+
+    #[test]
+    fn point_coulomb_friction_takes_the_engines_mode() {
+        let law = Friction::Coulomb { mu: 0.3 };
+        let (top, r) = row(law, Mode::Slip, [0.0, 0.0, 100.0], [1e-9, 0.0]);
+        assert_eq!(top.part_states(&r)[0], PartState::Sliding);
+        assert_eq!(top.contact_mode(&r), r.mode());
+        let (top, r) = row(law, Mode::Roll, [0.0, 0.0, 100.0], [0.0, 0.0]);
+        assert_eq!(top.part_states(&r)[0], PartState::Drilling);
+        // rolling about a horizontal axis (G moving with it: no slip)
+        let (top, r) = row(law, Mode::Roll, [0.0, 10.0, 1.0], [10.0 * 0.018, 0.0]);
+        assert_eq!(top.part_states(&r)[0], PartState::Rolling);
+        let (top, r) = row(law, Mode::Flight, [0.0, 10.0, 1.0], [0.0, 0.0]);
+        assert_eq!(top.part_states(&r)[0], PartState::Flight);
+        assert_eq!(top.contact_mode(&r), Mode::Flight);
+        for (k, s) in PartState::ALL.iter().enumerate() {
+            assert_eq!(s.code() as usize, k);
         }
     }
 }

@@ -17,6 +17,14 @@ function layout(run) {
     return [
       { title: 'u = cos θ (1: upright, G above the tip)', keys: [['u', 'u']] },
       { title: 'contact mode', keys: [['mode', 'mode']], modes: run.modes },
+      ...(run.contacts && run.contacts.parts.length ? [{
+        // one track per part, each a little above the last where two share a state
+        title: "each part's contact state",
+        keys: run.contacts.parts.map((name, k) => [`part_state_${k}`, name]),
+        modes: run.contacts.states,
+        offset: 0.12,
+        legend: true,
+      }] : []),
       { title: 'normal force (N)', keys: [['normal_force', 'N']] },
       { title: 'energy and its parts (J)', keys: [['energy', 'total'], ['energy_translation', 'translation'],
         ['energy_rotation', 'rotation'], ['energy_potential', 'potential'], ['dissipated', 'dissipated']] },
@@ -69,9 +77,14 @@ export class Charts {
         axes[1] = { splits: () => spec.modes.map((_, k) => k), values: (u, ticks) => ticks.map((k) => spec.modes[k] ?? ''), size: 60 };
         scales.y = { range: [-0.3, spec.modes.length - 0.7] };
       }
-      const data = [run.t, ...spec.keys.map(([key]) => run.series[key])];
+      if (spec.modes && spec.keys.length > 1) {
+        spec.keys.forEach((_, k) => { series[k + 1].paths = uPlot.paths.stepped({ align: 1 }); series[k + 1].width = 2.5; });
+        scales.y = { range: [-0.3, spec.modes.length - 0.7 + spec.offset * spec.keys.length] };
+      }
+      const shift = (values, k) => (spec.offset ? values.map((v) => (v === null ? null : v + spec.offset * k)) : values);
+      const data = [run.t, ...spec.keys.map(([key], k) => shift(run.series[key], k))];
       const plot = new uPlot({ width: this.width(), height: 170, series, axes, scales,
-        legend: { show: spec.keys.length > 1, live: false }, cursor: { drag: { x: true, y: false } } }, data, box);
+        legend: { show: spec.keys.length > 1 || !!spec.legend, live: false }, cursor: { drag: { x: true, y: false } } }, data, box);
       const cursor = document.createElement('div');
       cursor.className = 'cursor';
       plot.over.appendChild(cursor);

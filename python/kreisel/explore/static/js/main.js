@@ -3,7 +3,7 @@ import { ApiError, download, getJSON, postJSON, saveBlob } from './api.js';
 import { Atlas } from './atlas.js';
 import { Charts } from './charts.js';
 import { SweepMap } from './sweep.js';
-import { View3D } from './view3d.js';
+import { ARROW_COLOURS, View3D } from './view3d.js';
 
 const $ = (id) => document.getElementById(id);
 const TABLES = ['top', 'pivot', 'damping', 'state', 'simulation'];
@@ -274,6 +274,7 @@ const view = new View3D($('view3d'));
 state.view = view;
 const charts = new Charts($('charts'));
 state.charts = charts;
+state.charts = charts;
 const atlas = new Atlas($('atlas-plane'), $('jr'), $('jr-caption'), (alpha, gamma) => pickAlphaGamma(alpha, gamma));
 const sweepMap = new SweepMap($('sweep-map'), (index) => openCell(index), $('sweep-readout'));
 
@@ -331,10 +332,19 @@ function showLegend(r) {
   const lines = { tip: view.tipLine, contact: view.contactLine };
   for (const [name, line] of Object.entries(lines)) {
     const row = document.querySelector(`#legend [data-trace="${name}"]`);
-    row.hidden = !line;
+    row.hidden = !line || !$('traces').checked;
     if (line) row.querySelector('.swatch').style.borderTopColor = `#${line.material.color.getHexString()}`;
   }
-  $('legend').hidden = !$('traces').checked;
+  // the contact arrows of a play top, in their colours
+  const arrows = !!(r && r.contacts && r.contacts.parts.length) && $('forces').checked;
+  for (const [name, colour] of Object.entries(ARROW_COLOURS)) {
+    const row = document.querySelector(`#legend [data-trace="${name}"]`);
+    row.hidden = !arrows;
+    const css = `#${colour.toString(16).padStart(6, '0')}`;
+    const mark = row.querySelector('.swatch, .dot');
+    if (mark.classList.contains('dot')) mark.style.background = css; else mark.style.borderTopColor = css;
+  }
+  $('legend').hidden = !$('traces').checked && !arrows;
 }
 
 // The address of this page that runs ``tables``: ?run=<the tables as JSON>.
@@ -398,6 +408,9 @@ function draw() {
   $('clock').textContent = `t = ${state.t.toFixed(3)} s`;
   $('u-now').textContent = r.series.u[i] === null ? '-' : r.series.u[i].toFixed(4);
   $('mode-now').textContent = r.kind === 'play' ? r.modes[r.series.mode[i]] : 'pivot';
+  $('parts-now').textContent = r.contacts && r.contacts.parts.length
+    ? r.contacts.parts.map((name, p) => `${name} ${r.contacts.states[r.contacts.state[p][i]]}`).join(', ')
+    : '-';
 }
 
 // One sample forward (k = 1) or back (k = -1) from the time shown; the playback pauses.
@@ -646,7 +659,12 @@ async function main() {
   $('speed').addEventListener('change', () => { state.speed = Number($('speed').value); });
   $('traces').addEventListener('change', () => {
     view.showTraces = $('traces').checked;
-    $('legend').hidden = !view.showTraces;
+    showLegend(state.run);
+    draw();
+  });
+  $('forces').addEventListener('change', () => {
+    view.showForces = $('forces').checked;
+    showLegend(state.run);
     draw();
   });
   $('follow').addEventListener('change', () => { view.follow = $('follow').checked; draw(); });

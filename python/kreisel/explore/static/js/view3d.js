@@ -18,6 +18,9 @@ function stripes(a, b, n) {
   return texture;
 }
 
+// the contact arrows' colours (the legend of the 3D view shows them)
+export const ARROW_COLOURS = { point: 0x111111, normal: 0x1f5fa8, friction: 0xc0392b };
+
 // three's spheres and lathes turn about y; kreisel's figure axis e3 is z
 const Y_TO_Z = new THREE.Matrix4().makeRotationX(Math.PI / 2);
 
@@ -104,6 +107,11 @@ export class View3D {
     this.scene.add(this.body);
     this.world = new THREE.Group();
     this.scene.add(this.world);
+    // each touching part's contact point and the floor's normal and friction forces on it
+    this.forces = new THREE.Group();
+    this.scene.add(this.forces);
+    this.arrows = [];
+    this.showForces = true;
     this.run = null;
     this.showTraces = true;
     this.follow = true;
@@ -167,6 +175,7 @@ export class View3D {
       stand.translate(0, 0, floorZ / 2);
       this.world.add(new THREE.Mesh(stand, this.materials.pivot));
     }
+    this.setArrows(run, R);
     const size = 4 * reach;
     const grid = new THREE.GridHelper(size, 20, 0x8a96a3, 0xc3cad3);
     grid.rotation.x = Math.PI / 2;
@@ -191,6 +200,72 @@ export class View3D {
     this.home = { target, distance, elevation: (12 * Math.PI) / 180, azimuth: -0.92 };
     this.resetCamera();
     this.setTime(0, 0);
+  }
+
+  // One contact point and two arrows per contact part (play tops): the normal force, up,
+  // and the friction force, along the floor, both `scale` m per N: the weight m g is drawn
+  // 1.5 body sizes long.
+  setArrows(run, R) {
+    this.forces.clear();
+    this.arrows = [];
+    const c = run.contacts;
+    if (!c) return;
+    this.forceScale = (1.5 * R) / c.weight;
+    this.arrowR = R;
+    const up = new THREE.Vector3(0, 0, 1);
+    const o = new THREE.Vector3();
+    c.parts.forEach((name) => {
+      const point = new THREE.Mesh(new THREE.SphereGeometry(0.05 * R, 16, 12),
+        new THREE.MeshBasicMaterial({ color: ARROW_COLOURS.point }));
+      const normal = new THREE.ArrowHelper(up, o, R, ARROW_COLOURS.normal, 0.25 * R, 0.12 * R);
+      const friction = new THREE.ArrowHelper(up, o, R, ARROW_COLOURS.friction, 0.25 * R, 0.12 * R);
+      for (const [what, obj] of [['point', point], ['normal', normal], ['friction', friction]]) {
+        // drawn over the body: the contact lies under it, the normal force points into it
+        obj.traverse((m) => {
+          if (m.material) m.material.depthTest = false;
+          m.renderOrder = 10;
+        });
+        obj.name = `${name} ${what}`;
+        obj.userData = { part: name, what, force: 0 };
+        this.forces.add(obj);
+      }
+      this.arrows.push({ part: name, point, normal, friction });
+    });
+  }
+
+  // The contact arrows at sample k: shown for the parts touching (not in flight).
+  poseArrows(k) {
+    const c = this.run && this.run.contacts;
+    if (!c) return;
+    const flight = c.states.indexOf('flight');
+    const R = this.arrowR; // the body size the arrows were made for
+    this.arrows.forEach((a, p) => {
+      const on = this.showForces && c.state[p][k] !== flight;
+      a.point.visible = on;
+      a.normal.visible = on;
+      a.friction.visible = on;
+      if (!on) return;
+      const [x, y, z] = c.point[p][k];
+      const at = new THREE.Vector3(x, y, z + 1e-3 * R);
+      a.point.position.copy(at);
+      const n = c.normal[p][k] || 0;
+      a.normal.position.copy(at);
+      a.normal.setDirection(new THREE.Vector3(0, 0, 1));
+      a.normal.setLength(Math.max(n * this.forceScale, 1e-6 * R), 0.25 * R, 0.12 * R);
+      a.normal.userData.force = n;
+      const [fx, fy] = c.friction[p][k].map((v) => v || 0);
+      const f = Math.hypot(fx, fy);
+      a.friction.position.copy(at);
+      a.friction.visible = f > 0;
+      if (f > 0) {
+        a.friction.setDirection(new THREE.Vector3(fx / f, fy / f, 0));
+        a.friction.setLength(f * this.forceScale, Math.min(0.25 * R, 0.5 * f * this.forceScale),
+          Math.min(0.12 * R, 0.25 * f * this.forceScale));
+      }
+      a.friction.userData.force = f;
+      a.friction.userData.direction = f > 0 ? [fx / f, fy / f] : [0, 0];
+    });
+    this.arrowSample = k;
   }
 
   // The camera at `distance` from the target, seen from `elevation` above the floor and
@@ -242,6 +317,7 @@ export class View3D {
       this.camera.position.x += dx;
       this.camera.position.y += dy;
     }
+    this.poseArrows(frac < 0.5 ? i : j);
     const shown = this.showTraces ? i + 1 : 0;
     this.tipLine.geometry.setDrawRange(0, shown);
     if (this.contactLine) this.contactLine.geometry.setDrawRange(0, shown);

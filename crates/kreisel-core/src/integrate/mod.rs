@@ -98,6 +98,15 @@ pub trait OdeSystem<const N: usize> {
     fn controlled(&self) -> usize {
         N
     }
+
+    /// The Jacobian `jac[i][j] = d f_i / d y_j` at `(t, y)`, for the implicit integrator
+    /// `Radau5`: write every entry and return `true`, or return `false` (the default) to
+    /// have it approximated by forward differences of [`OdeSystem::rhs`] (`N` evaluations).
+    /// The explicit integrators never call it.
+    #[inline(always)]
+    fn jacobian(&self, _t: f64, _y: &[f64; N], _jac: &mut [[f64; N]; N]) -> bool {
+        false
+    }
 }
 
 /// An [`OdeSystem`] given by a closure `|t, y, dy| ...` (no projection).
@@ -315,8 +324,14 @@ pub struct Stats {
     /// Rejected step attempts (error too large or non-finite trial values).
     pub rejected: u64,
     /// Right-hand-side evaluations, including those of the initial-step
-    /// heuristic, of projections and of (lazily computed) dense output.
+    /// heuristic, of projections and of (lazily computed) dense output; for `Radau5`
+    /// also those of its finite-difference Jacobians.
     pub rhs_evals: u64,
+    /// Jacobians evaluated (analytic or by finite differences; `Radau5` only, else 0).
+    pub jacobians: u64,
+    /// Factorisations of the Newton iteration matrices, each one real and one complex
+    /// `N x N` LU decomposition (`Radau5` only, else 0).
+    pub lu_decomps: u64,
 }
 
 /// Why an integration stopped before reaching `t_end`.

@@ -2,13 +2,17 @@
 //!
 //! The state is a stack array `[f64; N]`; no integrator allocates inside its step
 //! loop (all work arrays are `[f64; N]` on the stack or in a preallocated work
-//! struct). Two integrators share one interface:
+//! struct). Three integrators share one interface:
 //!
 //! * [`Dop853`]: the adaptive explicit Runge–Kutta method of order 8 with embedded
 //!   5th- and 3rd-order error estimators and a 7th-order continuous extension
 //!   (Dormand & Prince; E. Hairer, S. P. Nørsett, G. Wanner, *Solving Ordinary
 //!   Differential Equations I*, 2nd ed., Springer 1993, Sec. II.5/II.6; Hairer's
 //!   `dop853.f`).
+//! * [`Radau5`]: the adaptive implicit Radau IIA method of order 5 (3 stages) for stiff
+//!   systems, with a collocation-polynomial dense output (E. Hairer, G. Wanner, *Solving
+//!   Ordinary Differential Equations II*, 2nd ed., Springer 1996, Sec. IV.8). Same
+//!   interface as [`Dop853`].
 //! * [`Rk4`]: the classic fixed-step 4th-order Runge–Kutta method with a cubic
 //!   Hermite dense output (3rd order).
 //!
@@ -17,7 +21,7 @@
 //! (Stoermer-Verlet on the Euler-angle Hamiltonian), [`implicit`] (implicit midpoint and
 //! 2-stage Gauss-Legendre), all driven by [`fixed`].
 //!
-//! Both drive an [`Observer`] that sees every accepted step together with a
+//! They drive an [`Observer`] that sees every accepted step together with a
 //! [`Dense`] interpolant over it. Ready-made observers: [`SampleAt`] (values at
 //! prescribed times), [`EveryStep`] (every accepted step), [`NullObserver`],
 //! [`FnObserver`] (a closure), and event location with [`Locator`] /
@@ -56,10 +60,12 @@ pub mod dop853;
 pub mod events;
 pub mod fixed;
 pub mod implicit;
+pub mod radau5;
 pub mod rk4;
 
 pub use dop853::{Dop853, Dop853Dense, Dop853Work};
 pub use events::{Event, EventFn, EventSpec, Locator, WithEvents};
+pub use radau5::{Radau5, Radau5Dense};
 pub use rk4::{Rk4, Rk4Dense};
 
 /// A first-order system `y' = f(t, y)` of fixed dimension `N`.
@@ -97,6 +103,15 @@ pub trait OdeSystem<const N: usize> {
     #[inline(always)]
     fn controlled(&self) -> usize {
         N
+    }
+
+    /// The Jacobian `jac[i][j] = d f_i / d y_j` at `(t, y)`, for the implicit integrator
+    /// [`Radau5`]: write every entry and return `true`, or return `false` (the default) to
+    /// have it approximated by forward differences of [`OdeSystem::rhs`] (`N` evaluations).
+    /// The explicit integrators never call it.
+    #[inline(always)]
+    fn jacobian(&self, _t: f64, _y: &[f64; N], _jac: &mut [[f64; N]; N]) -> bool {
+        false
     }
 }
 
@@ -315,8 +330,14 @@ pub struct Stats {
     /// Rejected step attempts (error too large or non-finite trial values).
     pub rejected: u64,
     /// Right-hand-side evaluations, including those of the initial-step
-    /// heuristic, of projections and of (lazily computed) dense output.
+    /// heuristic, of projections and of (lazily computed) dense output; for [`Radau5`]
+    /// also those of its finite-difference Jacobians.
     pub rhs_evals: u64,
+    /// Jacobians evaluated (analytic or by finite differences; [`Radau5`] only, else 0).
+    pub jacobians: u64,
+    /// Factorisations of the Newton iteration matrices, each one real and one complex
+    /// `N x N` LU decomposition ([`Radau5`] only, else 0).
+    pub lu_decomps: u64,
 }
 
 /// Why an integration stopped before reaching `t_end`.

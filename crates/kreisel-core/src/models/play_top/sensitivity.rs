@@ -746,14 +746,16 @@ fn saltation(
     };
     let (next, y1) = jump(rules, y);
     let same = |n: &Phase| {
-        if n.contacts.mode == next.contacts.mode {
+        if n.contacts.mode[..top.parts.n] == next.contacts.mode[..top.parts.n] {
             Ok(())
         } else {
             Err(KreiselError::Numerical(format!(
                 "play top sensitivities: the switch {} at t = {t} ends in other contact modes \
                  when the state is moved by its sensitivities (a switch at the edge of two \
-                 outcomes has no derivative)",
-                sw.name()
+                 outcomes has no derivative: {:?} against {:?})",
+                sw.name(),
+                &n.contacts.mode[..top.parts.n],
+                &next.contacts.mode[..top.parts.n]
             )))
         }
     };
@@ -1028,4 +1030,130 @@ fn run<const N: usize>(
         sens: out,
         info,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::rotation::quaternion_from_euler;
+
+    fn names(v: &[&str]) -> Vec<String> {
+        v.iter().map(|s| s.to_string()).collect()
+    }
+
+    fn coulomb_top() -> PlayTop {
+        PlayTop::new(
+            0.1,
+            1.6e-5,
+            2e-5,
+            0.03,
+            0.005,
+            9.81,
+            Friction::Coulomb { mu: 0.3 },
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+        )
+        .unwrap()
+    }
+
+    fn settings(t_end: f64) -> Settings {
+        Settings {
+            t_end,
+            rtol: 1e-10,
+            atol: 1e-12,
+            ..Settings::default()
+        }
+    }
+
+    /// A top sliding on Coulomb friction (mu = 1) that comes to stick at 3.8 ms, slides
+    /// again at 0.115 s and sticks again at 0.195 s.
+    fn stick_slip() -> (PlayTop, [f64; DIM]) {
+        let mut top = coulomb_top();
+        top.friction = Friction::Coulomb { mu: 1.0 };
+        let q = quaternion_from_euler(0.1, 0.3, 0.2);
+        let w = omega_body_from_euler(0.3, 0.2, 0.0, 3.0, 60.0);
+        let y0 = top.state(q, w, 0.2, 0.0, None).unwrap();
+        (top, y0)
+    }
+
+    #[test]
+    fn play_sensitivities_leave_the_trajectory_bit_for_bit() {
+        // across stick and slip switches, every step's row and every event as a plain run's
+        let (top, y0) = stick_slip();
+        let st = settings(0.25);
+        let plain = simulate::simulate(&top, &y0, &st, &mut [], &mut |_| true).unwrap();
+        let sens = PlaySensitivities::new(&top, &names(&["m", "mu", "theta"])).unwrap();
+        let out = simulate_with_sensitivities(&top, &y0, &st, &sens, &mut |_| true).unwrap();
+        assert!(plain.info.events.len() >= 3, "{:?}", plain.info.events);
+        assert_eq!(out.t, plain.t);
+        assert_eq!(out.rows, plain.rows);
+        assert_eq!(out.info.events, plain.info.events);
+        assert_eq!(out.info.stats, plain.info.stats);
+        assert_eq!(out.sens.len(), 3 * out.t.len());
+        // with t_eval too
+        let st = Settings {
+            t_eval: Some(vec![0.0, 0.05, 0.1, 0.2, 0.25]),
+            ..st
+        };
+        let plain = simulate::simulate(&top, &y0, &st, &mut [], &mut |_| true).unwrap();
+        let out = simulate_with_sensitivities(&top, &y0, &st, &sens, &mut |_| true).unwrap();
+        assert_eq!(out.t, plain.t);
+        assert_eq!(out.rows, plain.rows);
+    }
+
+    #[test]
+    fn play_sensitivity_names_are_checked() {
+        let top = coulomb_top();
+        let e = PlaySensitivities::new(&top, &names(&["I1"])).unwrap_err();
+        let msg = e.to_string();
+        assert!(msg.contains("\"I1\""), "{msg}");
+        assert!(msg.contains("m, A, C, g, mu"), "{msg}");
+        assert!(msg.contains("theta, phi, psi"), "{msg}");
+        let e = PlaySensitivities::new(&top, &names(&["m", "m"])).unwrap_err();
+        assert!(e.to_string().contains("at most once"), "{e}");
+        let e = PlaySensitivities::new(&top, &names(&["radius"])).unwrap_err();
+        assert!(e.to_string().contains("Coulomb-Contensou"), "{e}");
+        let parts = [
+            Shape::Sphere {
+                radius: 0.015,
+                z: -0.003,
+            },
+            Shape::Sphere {
+                radius: 0.005,
+                z: -0.016,
+            },
+        ];
+        let two = PlayTop::with_parts(
+            6e-3,
+            8e-7,
+            7e-7,
+            &parts,
+            9.81,
+            Friction::Coulomb { mu: 0.3 },
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+        )
+        .unwrap();
+        let e = PlaySensitivities::new(&two, &names(&["rho"])).unwrap_err();
+        assert!(e.to_string().contains("one tip sphere"), "{e}");
+        assert!(PlaySensitivities::new(&two, &names(&["mu", "theta"])).is_ok());
+        // "height" of a top that starts in contact
+        let y0 = top
+            .state(
+                quaternion_from_euler(0.0, 0.3, 0.0),
+                [0.0, 0.0, 50.0],
+                0.0,
+                0.0,
+                None,
+            )
+            .unwrap();
+        let sens = PlaySensitivities::new(&top, &names(&["height"])).unwrap();
+        let e = simulate_with_sensitivities(&top, &y0, &settings(0.01), &sens, &mut |_| true)
+            .unwrap_err();
+        assert!(e.to_string().contains("starts in contact"), "{e}");
+    }
 }

@@ -33,8 +33,16 @@
 //! Trans. Circuits Syst. I 47 (2000) 204):
 //! `S+ = DD S- + dD/dp + (f+ - DD f-) (g_y S- + g_p) / (g_y f-)`,
 //! with `DD`, `dD/dp`, `g_y` and `g_p` again central differences of the engine's own switch
-//! (the switch's projection and impulse, and the event function) along `S-` and `f-`. For a
-//! plain switch (lift-off, stick to slip) `D` is the identity on the constraint's tangent.
+//! (the switch's projection and impulse, and the event function) along `S-` and `f-`;
+//! `D` is differenced along `S- - f- th` (`th` the factor above), which stays on the event's
+//! surface, so that the switch's own thresholds decide as at the located state. Crossed:
+//! touchdowns. Lift-off, slip-to-stick and stick-to-slip switches, a slide from rest under
+//! Coulomb friction, tangential impacts and lying flat end the run with an error naming the
+//! event and its time: under Coulomb's law the slip direction's derivative grows as
+//! 1/|slip| as a slip runs out or starts, a stiff mode of the variational equation that the
+//! motion's steps do not see (measured across a slip-to-stick switch: errors of 1e-4 to
+//! 0.4 of the sensitivity, against 1e-9 before it), so the saltation written here is not
+//! taken there.
 //!
 //! The trajectory is the one a plain run takes, bit for bit: the sensitivities ride on its
 //! steps, out of the step-size control, and the switches are those of the engine's
@@ -385,6 +393,49 @@ struct PhaseWithSensitivities<'a> {
     scale: [f64; TAN],
 }
 
+impl PhaseWithSensitivities<'_> {
+    /// The step `e` along `s`, shortened so that it moves each sliding part's slip measure
+    /// vector by at most [`SLIP_STEP`] of its length: under Coulomb's law the force follows
+    /// the slip's direction, whose derivative grows as 1/|slip| as a slip runs out, so the
+    /// difference must stay small against the slip itself.
+    fn slip_step(&self, y: &[f64; DIM], s: &[f64; TAN], e: f64) -> f64 {
+        let top = &self.base.top;
+        if !matches!(
+            top.friction,
+            Friction::Coulomb { .. } | Friction::CoulombContensou { .. }
+        ) {
+            return e;
+        }
+        let moved = retract(y, s, e);
+        let (k0, k1) = (top.kin(y), top.kin(&moved));
+        let rb = top.friction.rbar();
+        let mut out = e;
+        for i in 0..top.parts.n {
+            if self.phase.contacts.mode[i] != super::Mode::Slip {
+                continue;
+            }
+            let p = &top.parts.shape[i];
+            let (a, b) = (
+                p.point_velocity(k0.v, k0.w, k0.e3),
+                p.point_velocity(k1.v, k1.w, k1.e3),
+            );
+            let v0 = [a[0], a[1], rb * k0.w[2]];
+            let dv = [b[0] - a[0], b[1] - a[1], rb * (k1.w[2] - k0.w[2])];
+            // (below the phase's creep tolerance the kernel slides along the phase's
+            // direction: no shorter step)
+            let n0 = dot(v0, v0).sqrt().max(self.phase.contacts.creep);
+            let nd = dot(dv, dv).sqrt();
+            if nd > SLIP_STEP * n0 {
+                out = out.min(e * SLIP_STEP * n0 / nd);
+            }
+        }
+        out
+    }
+}
+
+/// The largest share of a sliding part's slip a difference step moves it by.
+pub const SLIP_STEP: f64 = 1e-4;
+
 impl<const N: usize> OdeSystem<N> for PhaseWithSensitivities<'_> {
     fn rhs(&self, t: f64, y: &[f64; N], dy: &mut [f64; N]) {
         let mut ym = [0.0; DIM];
@@ -400,7 +451,7 @@ impl<const N: usize> OdeSystem<N> for PhaseWithSensitivities<'_> {
             let mut s = [0.0; TAN];
             s.copy_from_slice(&y[at..at + TAN]);
             let mut d = [0.0; TAN];
-            if let Some(e) = step_along(&s, &self.scale) {
+            if let Some(e) = step_along(&s, &self.scale).map(|e| self.slip_step(&ym, &s, e)) {
                 let fp = b.rates(&self.phase, &retract(&ym, &s, e));
                 let fm = b.rates(&self.phase, &retract(&ym, &s, -e));
                 for i in 3..TAN {
@@ -562,13 +613,34 @@ impl Start {
     }
 }
 
+/// A part that slides from (nearly) zero slip under Coulomb's law (or Coulomb-Contensou's)
+/// in `phase`: its slip direction's derivative grows as 1/|slip|, a stiff mode of the
+/// variational equation that the steps of the motion (which does not see it) cannot follow.
+fn slip_from_rest(top: &PlayTop, phase: &Phase, y: &[f64; DIM]) -> Option<usize> {
+    if !matches!(
+        top.friction,
+        Friction::Coulomb { .. } | Friction::CoulombContensou { .. }
+    ) {
+        return None;
+    }
+    let k = top.kin(y);
+    let level = 1e-6 * top.speed_scale(y);
+    (0..top.parts.n).find(|&i| {
+        phase.contacts.mode[i] == super::Mode::Slip && {
+            let vp = top.parts.shape[i].point_velocity(k.v, k.w, k.e3);
+            top.slide_measure(vp, k.w[2]) < level
+        }
+    })
+}
+
 /// The error for an event the sensitivities do not cross.
 fn unsupported(what: &str, t: f64) -> KreiselError {
     KreiselError::InvalidParameter {
         name: "sensitivities".into(),
         value: format!("a run with the event {what} at t = {t}"),
-        allowed: "a play top's sensitivities cross lift-off, touchdown, slip_to_roll and \
-                  roll_to_slip; give a t_end before this event"
+        allowed: "a play top's sensitivities cross touchdowns (not lift-off, slip_to_roll, \
+                  roll_to_slip, a slide from rest under Coulomb friction, a tangential impact \
+                  or lying flat); give a t_end before this event"
             .into(),
     }
 }
@@ -606,8 +678,8 @@ fn check(top: &PlayTop, settings: &Settings, sens: &PlaySensitivities) -> Result
 
 /// Simulates `top` from `y0` with the sensitivities `sens` (method "dop853", no events): the
 /// rows are those of [`simulate::simulate`] with the same settings, bit for bit. A run that
-/// reaches an event the sensitivities do not cross (a tangential impact, a ring lying flat)
-/// ends with an error naming it and its time.
+/// reaches an event the sensitivities do not cross (see the module's notes) ends with an
+/// error naming it and its time.
 pub fn simulate_with_sensitivities(
     top: &PlayTop,
     y0: &[f64; DIM],
@@ -759,19 +831,38 @@ fn saltation(
             )))
         }
     };
-    // Along a direction v: (dg/dy v, DD v).
-    let along = |v: &[f64; TAN]| -> Result<(f64, [f64; TAN])> {
+    // A slip's end is located where its measure |(v_slip, rbar w_n)| falls to the creep
+    // tolerance, 1e-10 of the speed scale: a difference step would cross that kink, so its
+    // derivative is the unit slip's dot product with the slip vector's (smooth) derivative.
+    let slip = match sw {
+        Switch::SlipToRoll(i) if !phase.contacts.flat => Some(i),
+        _ => None,
+    };
+    let slip_vector = |tp: &PlayTop, yy: &[f64; DIM]| -> [f64; 3] {
+        let i = slip.unwrap_or(0);
+        let k = tp.kin(yy);
+        let vp = tp.parts.shape[i].point_velocity(k.v, k.w, k.e3);
+        [vp[0], vp[1], tp.friction.rbar() * k.w[2]]
+    };
+    let unit = {
+        let v = slip_vector(top, y);
+        let n = dot(v, v).sqrt();
+        [v[0] / n, v[1] / n, v[2] / n]
+    };
+    // The event function's derivative along a direction v.
+    let dg = |v: &[f64; TAN]| -> f64 {
         let Some(e) = step_along(v, &scale) else {
-            return Ok((0.0, [0.0; TAN]));
+            return 0.0;
         };
         let (yp, ym) = (retract(y, v, e), retract(y, v, -e));
-        let dg = (g(rules, &yp) - g(rules, &ym)) / (2.0 * e);
-        let ((np, jp), (nm, jm)) = (jump(rules, &yp), jump(rules, &ym));
-        same(&np)?;
-        same(&nm)?;
-        Ok((dg, tangent(&y1, &jp, &jm, e)))
+        if slip.is_some() {
+            let (a, b) = (slip_vector(top, &yp), slip_vector(top, &ym));
+            (0..3).map(|c| unit[c] * (a[c] - b[c])).sum::<f64>() / (2.0 * e)
+        } else {
+            (g(rules, &yp) - g(rules, &ym)) / (2.0 * e)
+        }
     };
-    let (gf, dd_f) = along(&f_minus)?;
+    let gf = dg(&f_minus);
     if gf == 0.0 || !gf.is_finite() {
         return Err(KreiselError::Numerical(format!(
             "play top sensitivities: the switch {} at t = {t} is crossed tangentially (its \
@@ -783,27 +874,56 @@ fn saltation(
     let mut out = Vec::with_capacity(s.len());
     let mut theta = Vec::with_capacity(s.len());
     for (sj, p) in s.iter().zip(&sens.params) {
-        let (mut gs, mut dd_s) = along(sj)?;
-        if let PlayParam::Param(j) = *p {
-            let d = parameter_step(top, j);
-            let (tp, tm) = (moved(top, j, d), moved(top, j, -d));
-            let (rp, rm) = (Rules::new(&tp), Rules::new(&tm));
-            rp.2.set(floor);
-            rm.2.set(floor);
-            gs += (g(&rp, y) - g(&rm, y)) / (2.0 * d);
-            let ((np, jp), (nm, jm)) = (jump(&rp, y), jump(&rm, y));
+        // The switch's time moves by -th: the state moved along w = S- - f- th (and the
+        // parameter along 1) stays on the event's surface, where the switch's own thresholds
+        // (a gap or a slip of 1e-9 of the top's scales) decide as they do at y; DD w is then
+        // the difference of the switch along it.
+        let mut gs = dg(sj);
+        let param = match *p {
+            PlayParam::Param(j) => {
+                let d = parameter_step(top, j);
+                let (tp, tm) = (moved(top, j, d), moved(top, j, -d));
+                let (rp, rm) = (Rules::new(&tp), Rules::new(&tm));
+                rp.2.set(floor);
+                rm.2.set(floor);
+                gs += if slip.is_some() {
+                    let (a, b) = (slip_vector(&tp, y), slip_vector(&tm, y));
+                    (0..3).map(|c| unit[c] * (a[c] - b[c])).sum::<f64>() / (2.0 * d)
+                } else {
+                    (g(&rp, y) - g(&rm, y)) / (2.0 * d)
+                };
+                Some((j, d))
+            }
+            PlayParam::Field(_) => None,
+        };
+        let th = gs / gf;
+        let mut w = [0.0; TAN];
+        for i in 0..TAN {
+            w[i] = sj[i] - f_minus[i] * th;
+        }
+        let e_w = step_along(&w, &scale).unwrap_or(f64::INFINITY);
+        let e = match param {
+            Some((_, d)) => e_w.min(d),
+            None => e_w,
+        };
+        let v = if e.is_finite() {
+            let (yp, ym) = (retract(y, &w, e), retract(y, &w, -e));
+            let ((np, jp), (nm, jm)) = match param {
+                Some((j, _)) => {
+                    let (tp, tm) = (moved(top, j, e), moved(top, j, -e));
+                    let (rp, rm) = (Rules::new(&tp), Rules::new(&tm));
+                    rp.2.set(floor);
+                    rm.2.set(floor);
+                    (jump(&rp, &yp), jump(&rm, &ym))
+                }
+                None => (jump(rules, &yp), jump(rules, &ym)),
+            };
             same(&np)?;
             same(&nm)?;
-            let dp = tangent(&y1, &jp, &jm, d);
-            for i in 0..TAN {
-                dd_s[i] += dp[i];
-            }
-        }
-        let th = gs / gf;
-        let mut v = [0.0; TAN];
-        for i in 0..TAN {
-            v[i] = dd_s[i] - dd_f[i] * th;
-        }
+            tangent(&y1, &jp, &jm, e)
+        } else {
+            [0.0; TAN]
+        };
         out.push(v);
         // f+ th is added once the next phase is prepared (its right-hand side)
         theta.push(th);
@@ -831,6 +951,15 @@ fn run<const N: usize>(
     keep_energy(top, &mut y, e_given);
     if let Some(sw) = jam {
         return Err(unsupported(sw.name(), 0.0));
+    }
+    if phase.contacts.flat {
+        return Err(unsupported("flat (the start lies flat)", 0.0));
+    }
+    if let Some(i) = slip_from_rest(top, &phase, &y) {
+        return Err(unsupported(
+            &format!("start (part {i} slides from rest)"),
+            0.0,
+        ));
     }
     let mut s = initial(top, y0, &y, &phase, sens, rtol)?;
     // After a switch: the factor of f+ still to add to each sensitivity.
@@ -966,6 +1095,12 @@ fn run<const N: usize>(
         for (j, sj) in s.iter_mut().enumerate() {
             sj.copy_from_slice(&y1[DIM + TAN * j..DIM + TAN * (j + 1)]);
         }
+        if s.iter().flatten().any(|x| !x.is_finite()) {
+            return Err(KreiselError::Numerical(format!(
+                "play top sensitivities: not finite at t = {t} ({} mode)",
+                h.mode_name(&ph)
+            )));
+        }
         if full.get() {
             return Err(KreiselError::invalid(
                 "t_end",
@@ -979,7 +1114,14 @@ fn run<const N: usize>(
         let Some((switch, record)) = reason.filter(|_| t < t_end) else {
             break;
         };
-        if matches!(switch, Switch::Jam(_) | Switch::Flat(_)) {
+        if matches!(
+            switch,
+            Switch::Jam(_)
+                | Switch::Flat(_)
+                | Switch::LiftOff(_)
+                | Switch::RollToSlip(_)
+                | Switch::SlipToRoll(_)
+        ) {
             return Err(unsupported(switch.name(), t));
         }
         let (s_jump, theta) = saltation(&h, sens, switch, &ph, eps, &y, &s, t, rtol)?;
@@ -987,6 +1129,12 @@ fn run<const N: usize>(
         let e_before = total_energy(top, &y);
         phase = h.apply(switch, &phase, &mut y, rtol);
         keep_energy(top, &mut y, e_before);
+        if let Some(i) = slip_from_rest(top, &phase, &y) {
+            return Err(unsupported(
+                &format!("{} (part {i} starts sliding from rest)", switch.name()),
+                t,
+            ));
+        }
         s = s_jump;
         pending = Some(theta);
         let after = h.row(&phase, &y).contacts.mode;
@@ -1067,8 +1215,8 @@ mod tests {
         }
     }
 
-    /// A top sliding on Coulomb friction (mu = 1) that comes to stick at 3.8 ms, slides
-    /// again at 0.115 s and sticks again at 0.195 s.
+    /// A top sliding on Coulomb friction (mu = 1) that comes to stick at 3.8 ms and slides
+    /// again at 0.115 s.
     fn stick_slip() -> (PlayTop, [f64; DIM]) {
         let mut top = coulomb_top();
         top.friction = Friction::Coulomb { mu: 1.0 };
@@ -1080,13 +1228,17 @@ mod tests {
 
     #[test]
     fn play_sensitivities_leave_the_trajectory_bit_for_bit() {
-        // across stick and slip switches, every step's row and every event as a plain run's
-        let (top, y0) = stick_slip();
-        let st = settings(0.25);
+        // across a touchdown, every step's row and every event as a plain run's
+        let mut top = coulomb_top();
+        top.friction = Friction::Viscous { mu: 0.5 };
+        let q = quaternion_from_euler(0.0, 0.3, 0.0);
+        let w = omega_body_from_euler(0.3, 0.0, 0.0, 3.0, 60.0);
+        let y0 = top.state(q, w, 0.0, 0.0, Some(0.002)).unwrap();
+        let st = settings(0.1);
         let plain = simulate::simulate(&top, &y0, &st, &mut [], &mut |_| true).unwrap();
         let sens = PlaySensitivities::new(&top, &names(&["m", "mu", "theta"])).unwrap();
         let out = simulate_with_sensitivities(&top, &y0, &st, &sens, &mut |_| true).unwrap();
-        assert!(plain.info.events.len() >= 3, "{:?}", plain.info.events);
+        assert_eq!(plain.info.events.len(), 1, "{:?}", plain.info.events);
         assert_eq!(out.t, plain.t);
         assert_eq!(out.rows, plain.rows);
         assert_eq!(out.info.events, plain.info.events);
@@ -1094,13 +1246,20 @@ mod tests {
         assert_eq!(out.sens.len(), 3 * out.t.len());
         // with t_eval too
         let st = Settings {
-            t_eval: Some(vec![0.0, 0.05, 0.1, 0.2, 0.25]),
+            t_eval: Some(vec![0.0, 0.002, 0.05, 0.1]),
             ..st
         };
         let plain = simulate::simulate(&top, &y0, &st, &mut [], &mut |_| true).unwrap();
         let out = simulate_with_sensitivities(&top, &y0, &st, &sens, &mut |_| true).unwrap();
         assert_eq!(out.t, plain.t);
         assert_eq!(out.rows, plain.rows);
+        assert_eq!(out.info.events[0].name, "touchdown");
+        // a slip-to-stick switch (at 3.8 ms) ends them with an error naming it
+        let (top, y0) = stick_slip();
+        let e = simulate_with_sensitivities(&top, &y0, &settings(0.01), &sens, &mut |_| true)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("slip_to_roll at t = 0.003"), "{e}");
     }
 
     #[test]

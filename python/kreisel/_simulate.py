@@ -246,8 +246,8 @@ def simulate(
         ``"psi"``, ``"theta_dot"``, ``"phi_dot"``, ``"psi_dot"``, ``"vx"``, ``"vy"``,
         ``"x"``, ``"y"``, ``"height"`` (a dropped top), and ``"orientation[i]"``,
         ``"omega[i]"`` (a moved field builds the state again, so a top in contact stays in
-        contact). Its sensitivities cross lift-off, touchdown, stick and slip switches (by
-        the saltation of the variational equation); a run that reaches a tangential impact
+        contact). Its sensitivities cross touchdowns (by the saltation of the variational
+        equation); a run that reaches lift-off, a stick or slip switch, a tangential impact
         or a ring lying flat raises an error naming it and its time. The run takes the same
         steps, and gives the same rows, as one without (see the theory page,
         "Sensitivities").

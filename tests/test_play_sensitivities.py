@@ -334,7 +334,7 @@ def test_unknown_names_are_refused_with_the_allowed_ones():
 
 
 def test_recovery_of_mujocos_tippe_top_from_a_camera():
-    """Issue 26's recovery check: MuJoCo's tutorial tippe top (benchmark T2, soft contact)
+    """A recovery check: MuJoCo's tutorial tippe top (benchmark T2, soft contact)
     recorded by a camera from above (a point 3 cm up the stem, 1 mm noise, every 16 ms:
     62.5 frames/s, MuJoCo's 2 ms steps) for 0.25 s; kreisel's rigid top, built from MuJoCo's
     compiled mass properties, fitted for the start's theta_dot and psi_dot: the true values

@@ -211,10 +211,12 @@ def simulate_sensitivities(
     euler: Sequence[float] | None = None,
     control: bool = False,
 ) -> dict[str, Any]:
-    """A heavy top's run with DOP853 and forward sensitivities: what ``simulate`` returns
-    and ``sensitivities``, per name a dict of ``omega`` (n, 3), ``orientation`` (n, 3),
-    ``quaternion`` (n, 4), ``theta``, ``phi``, ``psi`` (n,). ``control`` puts them into the
-    step-size control."""
+    """A heavy top's (or a play top's) run with DOP853 and forward sensitivities: what
+    ``simulate`` returns and ``sensitivities``, per name a dict of ``omega`` (n, 3),
+    ``orientation`` (n, 3), ``quaternion`` (n, 4), ``theta``, ``phi``, ``psi`` (n,); for a
+    play top also ``com``, ``com_velocity`` (n, 3), ``dissipated`` and ``u`` (n,), across
+    its touchdowns. ``control`` puts them into the step-size
+    control (heavy tops)."""
 
 def many(
     models: Sequence[HeavyTop | DrivenTop | PlayTop],

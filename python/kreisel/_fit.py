@@ -220,8 +220,9 @@ def fit(
         Gauss-Newton one either way.
     jacobian : str
         ``"auto"`` (the core's forward sensitivities where :func:`simulate` offers them for
-        this top, else finite differences), ``"sensitivities"`` or ``"finite-differences"``
-        (central, relative step 1e-5).
+        a top on a pivot, else finite differences), ``"sensitivities"`` (also a PlayTop
+        started from an EulerState: its run must not reach a tangential impact or a ring
+        lying flat) or ``"finite-differences"`` (central, relative step 1e-5).
     start : dict, optional
         Start values of free names, overriding those of ``top``, ``state`` and the
         observations' ``rotation`` (e.g. ``{"sensor_rotation": earlier.values[...]}`` to go on
@@ -380,18 +381,20 @@ def _params(free, spec: fm.TopSpec, s_sizes, s_vals, obs_list, rotation) -> list
 
 def _jacobian_mode(jacobian, top, spec, s_sens, params) -> str:
     dynamic = [p for p in params if p.group != "sensor"]
-    supported = not isinstance(top, PlayTop) and all(
-        p.key in spec.sensitive or p.key in s_sens for p in dynamic
-    )
+    supported = all(p.key in spec.sensitive or p.key in s_sens for p in dynamic)
     if jacobian == "sensitivities" and not supported:
         why = ("the core's sensitivities cover heavy and Lagrange tops on a fixed pivot "
-               "(viscous and drag damping included), not tops on a floor, moving pivots or "
-               "dry friction")  # fmt: skip
+               "(viscous and drag damping included) and tops on a floor started from an "
+               "EulerState, not moving pivots, dry friction at a pivot or a PlayState's "
+               "omega")  # fmt: skip
         raise ParameterError(
             f"jacobian = 'sensitivities' is not allowed here: {why}; use 'finite-differences'"
         )
     if jacobian == "auto":
-        return "sensitivities" if supported else "finite-differences"
+        # a top on a floor keeps finite differences unless asked: its sensitivities stop at
+        # events they do not cross (a tangential impact, a ring lying flat)
+        play = isinstance(top, PlayTop)
+        return "sensitivities" if supported and not play else "finite-differences"
     return jacobian
 
 
@@ -539,7 +542,8 @@ class _Problem:
                 continue
             col = []
             for o, idx, mask in zip(self.obs, self.rows, self.masks):
-                d = fm.predict_derivative(sens[p.sens], cols, o, idx, rot) / o.sigma
+                d = fm.predict_derivative(sens[p.sens], cols, o, idx, rot, self.play)
+                d = d / o.sigma
                 col.append(d[mask])
             J[:, j] = np.concatenate(col) * (v[j] if p.log else 1.0)
         return J

@@ -118,7 +118,8 @@ def _play_spec(top: PlayTop) -> TopSpec:
         shape = list(top.shape) if given_shape else None
         return PlayTop(**q, friction=law, shape=shape)
 
-    return TopSpec(dict.fromkeys(kw), kw, make, frozenset())
+    # the core's sensitivities know every one of these names (theory: sensitivities)
+    return TopSpec(dict.fromkeys(kw), kw, make, frozenset(kw))
 
 
 def state_spec(top, state) -> tuple[dict[str, int | None], dict[str, Any], Callable, frozenset]:
@@ -132,8 +133,8 @@ def state_spec(top, state) -> tuple[dict[str, int | None], dict[str, Any], Calla
             # on a floor the state's height follows the trial top's geometry (s, rho)
             return trial.state(*s.as_tuple()) if isinstance(trial, PlayTop) else s
 
-        sens = frozenset() if isinstance(top, PlayTop) else frozenset(EULER_FIELDS)
-        return dict.fromkeys(EULER_FIELDS), vals, make, sens
+        # a play top's sensitivities move these fields of trial.state(...) as make does
+        return dict.fromkeys(EULER_FIELDS), vals, make, frozenset(EULER_FIELDS)
     if isinstance(state, RigidState):
         q0 = np.asarray(state.quaternion, dtype=float)
 
@@ -199,9 +200,11 @@ def predict(cols: dict[str, np.ndarray], obs: Observations, idx: np.ndarray, rot
     return xy
 
 
-def predict_derivative(sens: dict[str, np.ndarray], cols, obs, idx, rot) -> np.ndarray:
+def predict_derivative(
+    sens: dict[str, np.ndarray], cols, obs, idx, rot, play: bool = False
+) -> np.ndarray:
     """d(prediction)/dp, shape (n, k), from the core's sensitivities of one parameter p
-    (a heavy or Lagrange top on a fixed pivot)."""
+    (a heavy or Lagrange top on a fixed pivot, or a top on a floor when ``play``)."""
     if obs.kind == "body_rates":
         dw = np.asarray(sens["omega"])[idx]
         return dw @ rotation_matrix(rot) if obs.frame == "sensor" else dw
@@ -212,7 +215,11 @@ def predict_derivative(sens: dict[str, np.ndarray], cols, obs, idx, rot) -> np.n
     d = float(obs.axis_point)
     dx = d * (np.cos(th) * np.sin(ph) * dth + np.sin(th) * np.cos(ph) * dph)
     dy = d * (-np.cos(th) * np.cos(ph) * dth + np.sin(th) * np.sin(ph) * dph)
-    return np.stack([dx, dy], axis=1)
+    out = np.stack([dx, dy], axis=1)
+    if play:
+        dcom = np.asarray(sens["com"])
+        out = out + dcom[idx, :2] - dcom[0, :2]
+    return out
 
 
 def difference(pred: np.ndarray, obs: Observations) -> np.ndarray:

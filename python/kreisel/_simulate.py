@@ -238,9 +238,19 @@ def simulate(
         ``"viscous"`` and ``"drag"``. An EulerState: ``"theta"``, ``"phi"``,
         ``"psi"``, ``"theta_dot"``, ``"phi_dot"``, ``"psi_dot"``; a RigidState:
         ``"orientation[0]"`` .. ``"orientation[2]"`` (a body-frame rotation of the initial
-        orientation, ``q -> q exp(xi / 2)``) and ``"omega[0]"`` .. ``"omega[2]"``. The run
-        takes the same steps, and gives the same rows, as one without (see the theory
-        page, "Sensitivities").
+        orientation, ``q -> q exp(xi / 2)``) and ``"omega[0]"`` .. ``"omega[2]"``. A
+        PlayTop: ``"m"``, ``"A"``, ``"C"``, ``"g"``, ``"mu"`` (its friction law's
+        coefficient), ``"radius"`` (a CoulombContensou patch), ``"s"``, ``"rho"`` (one tip
+        sphere), ``"restitution"``, ``"rolling_resistance"``, ``"drilling_resistance"``,
+        ``"air_drag"``; and the fields of ``pt.state(...)``: ``"theta"``, ``"phi"``,
+        ``"psi"``, ``"theta_dot"``, ``"phi_dot"``, ``"psi_dot"``, ``"vx"``, ``"vy"``,
+        ``"x"``, ``"y"``, ``"height"`` (a dropped top), and ``"orientation[i]"``,
+        ``"omega[i]"`` (a moved field builds the state again, so a top in contact stays in
+        contact). Its sensitivities cross touchdowns (by the saltation of the variational
+        equation); a run that reaches lift-off, a stick or slip switch, a tangential impact
+        or a ring lying flat raises an error naming it and its time. The run takes the same
+        steps, and gives the same rows, as one without (see the theory page,
+        "Sensitivities").
 
     Returns
     -------
@@ -254,7 +264,9 @@ def simulate(
         unless asked for; then a dict from each name to a dict of arrays, one row per row of
         the trajectory: ``"omega"`` (n, 3, d omega_body / dp), ``"orientation"`` (n, 3: the
         body-frame vector xi with R(p + dp) = R(p) exp([xi dp]x)), ``"quaternion"`` (n, 4:
-        q (0, xi) / 2), ``"theta"``, ``"phi"``, ``"psi"`` (n,: of the unwrapped angles).
+        q (0, xi) / 2), ``"theta"``, ``"phi"``, ``"psi"`` (n,: of the unwrapped angles);
+        for a PlayTop also ``"com"``, ``"com_velocity"`` (n, 3), ``"dissipated"`` and ``"u"``
+        (n,).
 
     Examples
     --------

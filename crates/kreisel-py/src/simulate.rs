@@ -57,7 +57,7 @@ pub(crate) fn heavy_state(py: Python<'_>, x: &[f64]) -> PyResult<RigidState> {
     RigidState::new([v[0], v[1], v[2], v[3]], [v[4], v[5], v[6]]).py(py)
 }
 
-fn play_state(x: &[f64]) -> PyResult<[f64; DIM]> {
+pub(crate) fn play_state(x: &[f64]) -> PyResult<[f64; DIM]> {
     if x.len() != DIM - 1 {
         return Err(pyo3::exceptions::PyValueError::new_err(format!(
             "a play top's state has {} numbers (q, omega, com, com_velocity), not {}",
@@ -412,45 +412,53 @@ pub fn simulate<'py>(
         Native::Play(top) => {
             let y0 = play_state(&state)?;
             let out = run_model(py, top, y0, st, &events, |_, _, _, _: &[f64; DIM]| Ok(0.0))?;
-            let part = |a: usize| -> Vec<f64> {
-                let mut v = Vec::with_capacity(out.rows.len() * 3);
-                for r in &out.rows {
-                    v.extend_from_slice(&r.y[a..a + 3]);
-                }
-                v
-            };
-            let n = out.rows.len();
-            let q: Vec<[f64; 4]> = out
-                .rows
-                .iter()
-                .map(|r| [r.y[0], r.y[1], r.y[2], r.y[3]])
-                .collect();
-            d.set_item("quaternion", flat(py, &q)?)?;
-            d.set_item("omega", part(4).into_pyarray(py).reshape([n, 3])?)?;
-            d.set_item("com", part(7).into_pyarray(py).reshape([n, 3])?)?;
-            d.set_item("com_velocity", part(10).into_pyarray(py).reshape([n, 3])?)?;
-            let dissipated: Vec<f64> = out.rows.iter().map(|r| r.y[13]).collect();
-            d.set_item("dissipated", dissipated.into_pyarray(py))?;
-            // Codes (see `names()["modes"]`): one array, not a Python string per output.
-            // The top's mode from its parts' states (`PlayTop::contact_mode`).
-            let modes: Vec<u8> = out
-                .rows
-                .iter()
-                .map(|r| top.contact_mode(r).code())
-                .collect();
-            d.set_item("mode", modes.into_pyarray(py))?;
-            d.set_item("derived", PlayTop::COLUMN_NAMES.to_vec())?;
-            info_into(py, &d, &out.info)?;
-            d.set_item("t", out.t.into_pyarray(py))?;
-            d.set_item(
-                "run",
-                PyRun {
-                    rows: Rows::Play(top, out.rows),
-                },
-            )?;
+            put_play(py, &d, top, out.t, out.rows, &out.info)?;
         }
     }
     Ok(d)
+}
+
+/// Puts a play top's run into `d`: its columns, counters, events and rows.
+pub(crate) fn put_play(
+    py: Python<'_>,
+    d: &Bound<'_, PyDict>,
+    top: PlayTop,
+    t: Vec<f64>,
+    rows: Vec<PlayRow>,
+    info: &RunInfo,
+) -> PyResult<()> {
+    let part = |a: usize| -> Vec<f64> {
+        let mut v = Vec::with_capacity(rows.len() * 3);
+        for r in &rows {
+            v.extend_from_slice(&r.y[a..a + 3]);
+        }
+        v
+    };
+    let n = rows.len();
+    let q: Vec<[f64; 4]> = rows
+        .iter()
+        .map(|r| [r.y[0], r.y[1], r.y[2], r.y[3]])
+        .collect();
+    d.set_item("quaternion", flat(py, &q)?)?;
+    d.set_item("omega", part(4).into_pyarray(py).reshape([n, 3])?)?;
+    d.set_item("com", part(7).into_pyarray(py).reshape([n, 3])?)?;
+    d.set_item("com_velocity", part(10).into_pyarray(py).reshape([n, 3])?)?;
+    let dissipated: Vec<f64> = rows.iter().map(|r| r.y[13]).collect();
+    d.set_item("dissipated", dissipated.into_pyarray(py))?;
+    // Codes (see `names()["modes"]`): one array, not a Python string per output.
+    // The top's mode from its parts' states (`PlayTop::contact_mode`).
+    let modes: Vec<u8> = rows.iter().map(|r| top.contact_mode(r).code()).collect();
+    d.set_item("mode", modes.into_pyarray(py))?;
+    d.set_item("derived", PlayTop::COLUMN_NAMES.to_vec())?;
+    info_into(py, d, info)?;
+    d.set_item("t", t.into_pyarray(py))?;
+    d.set_item(
+        "run",
+        PyRun {
+            rows: Rows::Play(top, rows),
+        },
+    )?;
+    Ok(())
 }
 
 /// A Python event function of a top on a pivot, called with (t, q, omega).

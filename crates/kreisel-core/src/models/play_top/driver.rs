@@ -608,6 +608,26 @@ impl Rules<'_> {
         }
     }
 
+    /// The right-hand side of a phase with `contacts` at `(t, y)`, evaluated as its
+    /// integration evaluates it, the forces kept for the events: for runs that carry more than
+    /// the state along (sensitivities), so that their trajectory is a plain run's.
+    #[inline(always)]
+    pub(crate) fn phase_rates(
+        &self,
+        contacts: &Contacts,
+        kernel: Kernel,
+        consts: &Consts,
+        t: f64,
+        y: &[f64; DIM],
+        dy: &mut [f64; DIM],
+    ) {
+        let mut last = self.1.borrow_mut();
+        last.t = t;
+        last.q = [y[0], y[1], y[2], y[3]];
+        self.0
+            .rates(kernel, consts, contacts, y, dy, &mut last.forces);
+    }
+
     pub(crate) fn mode_name(&self, phase: &Phase) -> &'static str {
         phase.contacts.overall(self.0.parts.n).name()
     }

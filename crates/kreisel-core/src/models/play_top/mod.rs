@@ -31,6 +31,7 @@ pub mod modes;
 pub mod parts;
 #[cfg(test)]
 mod reference;
+pub mod sensitivity;
 pub mod simulate;
 pub mod solve;
 

@@ -137,6 +137,14 @@ impl<'a> Rules<'a> {
         )
     }
 
+    /// The rules of `top` for a run at relative tolerance `rtol` (the slip it resolves: see
+    /// [`Rules::tolerance`]).
+    pub(crate) fn for_run(top: &'a PlayTop, rtol: f64) -> Self {
+        let r = Self::new(top);
+        r.3.set(10.0 * rtol);
+        r
+    }
+
     /// The forces at `(t, y)` with `contacts`, from the last right-hand side where it was
     /// there.
     fn forces(&self, contacts: &Contacts, t: f64, y: &[f64; DIM]) -> Forces {
@@ -685,7 +693,6 @@ pub(crate) fn drive(
     sink: Sink<'_, PlayRow>,
 ) -> Result<RunInfo> {
     let t_end = settings.t_end;
-    h.3.set(10.0 * settings.rtol);
     let mut info = RunInfo::default();
     let mut y = *y0;
     let e_given = top.kinetic_energy(&y) + top.m * top.g * y[9] + y[13];

@@ -725,10 +725,10 @@ fn moved_tops(
 
 /// The start of a run of `top` from `y`: the driver's start and the energy it keeps.
 fn started(top: &PlayTop, y: &[f64; DIM], rtol: f64) -> (Phase, Option<Switch>, [f64; DIM]) {
-    let rules = Rules::new(top);
+    let rules = Rules::for_run(top, rtol);
     let mut y = *y;
     let e = total_energy(top, &y);
-    let (phase, jam) = rules.start(&mut y, rtol);
+    let (phase, jam) = rules.start(&mut y);
     keep_energy(top, &mut y, e);
     (phase, jam, y)
 }
@@ -812,7 +812,7 @@ fn saltation(
     let jump = |r: &Rules<'_>, yy: &[f64; DIM]| {
         let mut yy = *yy;
         let e = total_energy(r.0, &yy);
-        let next = r.apply(sw, phase, &mut yy, rtol);
+        let next = r.apply(sw, phase, &mut yy);
         keep_energy(r.0, &mut yy, e);
         (next, yy)
     };
@@ -883,7 +883,7 @@ fn saltation(
             PlayParam::Param(j) => {
                 let d = parameter_step(top, j);
                 let (tp, tm) = (moved(top, j, d), moved(top, j, -d));
-                let (rp, rm) = (Rules::new(&tp), Rules::new(&tm));
+                let (rp, rm) = (Rules::for_run(&tp, rtol), Rules::for_run(&tm, rtol));
                 rp.2.set(floor);
                 rm.2.set(floor);
                 gs += if slip.is_some() {
@@ -911,7 +911,7 @@ fn saltation(
             let ((np, jp), (nm, jm)) = match param {
                 Some((j, _)) => {
                     let (tp, tm) = (moved(top, j, e), moved(top, j, -e));
-                    let (rp, rm) = (Rules::new(&tp), Rules::new(&tm));
+                    let (rp, rm) = (Rules::for_run(&tp, rtol), Rules::for_run(&tm, rtol));
                     rp.2.set(floor);
                     rm.2.set(floor);
                     (jump(&rp, &yp), jump(&rm, &ym))
@@ -941,13 +941,13 @@ fn run<const N: usize>(
 ) -> Result<PlaySensitivitySolution> {
     let k = sens.params.len();
     debug_assert!(DIM + TAN * k <= N);
-    let h = Rules::new(top);
+    let h = Rules::for_run(top, settings.rtol);
     let t_end = settings.t_end;
     let rtol = settings.rtol;
     let mut info = RunInfo::default();
     let mut y = *y0;
     let e_given = total_energy(top, &y);
-    let (mut phase, jam) = h.start(&mut y, rtol);
+    let (mut phase, jam) = h.start(&mut y);
     keep_energy(top, &mut y, e_given);
     if let Some(sw) = jam {
         return Err(unsupported(sw.name(), 0.0));
@@ -978,7 +978,7 @@ fn run<const N: usize>(
             h_max: h.max_step(&phase, &y),
             max_steps: MAX_STEPS,
         };
-        let eps = h.tolerance(&y, rtol);
+        let eps = h.tolerance(&y);
         // The row after a switch is the switch's (the phase not yet prepared), as the driver's.
         let row_after = pending.as_ref().map(|_| h.row(&phase, &y));
         h.prepare(&mut phase, &y, eps);
@@ -1127,7 +1127,7 @@ fn run<const N: usize>(
         let (s_jump, theta) = saltation(&h, sens, switch, &ph, eps, &y, &s, t, rtol)?;
         let before = h.row(&phase, &y).contacts.mode;
         let e_before = total_energy(top, &y);
-        phase = h.apply(switch, &phase, &mut y, rtol);
+        phase = h.apply(switch, &phase, &mut y);
         keep_energy(top, &mut y, e_before);
         if let Some(i) = slip_from_rest(top, &phase, &y) {
             return Err(unsupported(

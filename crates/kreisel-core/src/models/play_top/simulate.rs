@@ -201,7 +201,14 @@ impl Model for PlayTop {
         keep_going: &mut dyn FnMut(f64) -> bool,
         sink: Sink<'_, PlayRow>,
     ) -> Result<RunInfo> {
-        drive(&Rules::new(self), self, y0, settings, keep_going, sink)
+        drive(
+            &Rules::for_run(self, settings.rtol),
+            self,
+            y0,
+            settings,
+            keep_going,
+            sink,
+        )
     }
 
     fn summary<'a>(&'a self, _y0: &[f64; DIM], settings: &Settings) -> PlayAcc<'a> {

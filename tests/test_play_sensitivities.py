@@ -345,7 +345,11 @@ def test_recovery_of_mujocos_tippe_top_from_a_camera():
     (MuJoCo's start) within 2 sigma. Measured (scratch run of this setup): the two models'
     tracked points differ by 0.26 mm at 64 ms, 0.6 mm at 0.13-0.19 s, 0.9 mm at 0.26 s and
     1.2-1.7 mm by 0.32-0.45 s, so the window ends where the mismatch reaches the noise; the
-    fit's chi2/dof (1.7) shows it is not below it."""
+    fit's chi2/dof (1.7) shows it is not below it. Over 100 noise draws the true values lie
+    within 2 sigma in 55 % (theta_dot) and 97 % (psi_dot) of the fits over this window, 86 %
+    and 86 % over its first 0.128 s: the two contact models (MuJoCo's soft, kreisel's rigid)
+    differ by more than the errors, so this is a check of the estimates, not of the errors'
+    honesty; that is test_a_fit_of_the_sliding_ball_gives_honest_two_sigma_intervals."""
     import math
     import pathlib
     import sys
@@ -406,3 +410,57 @@ def test_a_fit_of_a_top_on_a_floor_takes_the_core_sensitivities():
         assert abs(a.values[k] - b.values[k]) < 1e-3 * a.errors[k], (k, a, b)
         assert abs(a.errors[k] - b.errors[k]) < 1e-3 * a.errors[k], (k, a, b)
     assert abs(a.values["mu"] - 1.0) < 3 * a.errors["mu"]
+
+
+# --- honest uncertainties for a top on a floor: recordings by the second formulation ----------
+# The tippe top's ball (BALL, sliding under viscous friction throughout) filmed from above: the
+# camera sees a point 3 cm up the figure axis from G, 1 mm noise at 60 frames/s, for 1 s. The
+# recording comes from the second formulation above (scipy, rotation matrix and body rates),
+# not from kreisel; the fit frees the start's theta_dot and psi_dot and the friction's mu,
+# from a guess 1 % off in psi_dot (from 7 % off, 40 % of the noisy fits stop in a local minimum
+# of the oscillating tip's misfit, chi2/dof 2.3 against 1.0, which the fit's notes report).
+# Coverage of the 2-sigma intervals over KREISEL_FIT_DRAWS noise draws (20 by default: only
+# gross dishonesty fails; 100 for the full 90-99 % check, as in test_fit.py).
+_AXIS_POINT = 0.03
+# The start of BALL_START with G at rest (a fit's Euler state carries no velocity of G).
+_CAMERA_START = {**BALL_START, "vx": 0.0, "vy": 0.0}
+
+
+def _ball_camera_truth(duration=1.0, fps=60.0):
+    t = np.arange(int(duration * fps)) / fps
+    sol = solve_ivp(_sliding_ball(BALL), (0.0, t[-1]), _start(BALL, _CAMERA_START),
+                    method="DOP853", t_eval=t, rtol=1e-12, atol=1e-14)  # fmt: skip
+    y = sol.y.T
+    r = y[:, :9].reshape(-1, 3, 3)
+    tip = y[:, 12:15] + r @ np.array([0.0, 0.0, _AXIS_POINT])
+    return t, tip[:, :2]
+
+
+def test_a_fit_of_the_sliding_ball_gives_honest_two_sigma_intervals():
+    import os
+    import warnings
+
+    draws = int(os.environ.get("KREISEL_FIT_DRAWS", "20"))
+    t, xy = _ball_camera_truth()
+    truth = {"theta_dot": BALL_START["theta_dot"], "psi_dot": BALL_START["psi_dot"],
+             "mu": BALL["mu"]}  # fmt: skip
+    rng = np.random.default_rng(20261126)
+    hits: dict[str, list[bool]] = {k: [] for k in truth}
+    for _ in range(draws):
+        obs = kreisel.Observations(t, xy + rng.normal(0.0, 1e-3, xy.shape), "axis_tip",
+                                   sigma=1e-3, axis_point=_AXIS_POINT)  # fmt: skip
+        guess_top = ball({**BALL, "mu": 0.9})
+        e = _CAMERA_START
+        guess = kreisel.EulerState(e["theta"], e["phi"], e["psi"], 0.4, e["phi_dot"], 148.0)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", kreisel.FitWarning)
+            res = kreisel.fit(guess_top, guess, obs, free=list(truth))
+        for k, v in truth.items():
+            hits[k].append(abs(res.values[k] - v) <= 2 * res.errors[k])
+    share = {k: float(np.mean(v)) for k, v in hits.items()}
+    print(f"sliding-ball camera coverage over {draws} draws: {share}")
+    if draws >= 100:
+        for k, s in share.items():
+            assert 0.90 <= s <= 0.99, (k, share)
+    else:
+        assert np.mean([x for v in hits.values() for x in v]) >= 0.8, share

@@ -406,7 +406,7 @@ def test_every_field_has_a_readable_label_a_unit_and_a_tooltip(page):
         " r.dataset.field, r.querySelector('label').textContent,"
         " r.querySelector('.unit').textContent, r.title]);"
     )
-    assert len(rows) == 14 + 9 + 7  # a play top's fields
+    assert len(rows) == 15 + 9 + 7  # a play top's fields
     no_unit = {"friction", "method", "exact"}
     for _, name, label, unit, tip in rows:
         assert label != name or len(name) > 3, name  # words, not the bare symbol

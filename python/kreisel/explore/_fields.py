@@ -37,6 +37,8 @@ TOP = {
     "drilling_resistance": ("drilling resistance", "m", "length of the loss torque "
                             "-delta N against the drilling rotation"),
     "air_drag": ("air drag", "N m s", "the torque -air_drag omega of the air"),
+    "stick_threshold": ("stick threshold", "1", "a sliding part sticks where its slip falls "
+                        "to this share of the top's speed scale (1e-9 by default)"),
 }  # fmt: skip
 STATE = {
     "theta": ("tilt θ", "rad", "Euler angle: the figure axis from the upward vertical"),

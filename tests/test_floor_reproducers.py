@@ -146,3 +146,32 @@ def test_a_sharp_rim_spinning_flat_under_coulomb_friction_stops_at_the_closed_fo
     tr = kreisel.simulate(t, t.state(0.0, psi_dot=50.0), 2.0)
     stop = [ev.t for ev in tr.events if ev.name == "slip_to_roll"]
     assert stop == [pytest.approx(c * 50.0 / (mu * m * G * r), rel=1e-8)]
+
+
+def test_a_contact_with_no_consistent_force_never_pulls_energy_in():
+    """The Painleve case after a landing (floor campaign, seed 1, case 3694): no set of
+    contact modes is consistent even after the plastic impact. Sliding with the pulling normal
+    force that no set allowed fed energy in through the friction (E + dissipated rose by 2 %
+    of the energy); the contact now sticks where sticking needs no pull (a sticking contact
+    does no work), and E + dissipated never rises beyond rounding."""
+    import kreisel
+    from kreisel.shapes import Spheroid, Torus
+
+    top = kreisel.PlayTop(
+        0.22063414001252402, 3.22240268722107e-05, 3.320561966376072e-05,
+        shape=[Torus(0.026044932357395786, 0.0, z=0.0011939141996768765),
+               Spheroid(0.034912411557015306, 0.03281434106306832, z=-0.016572561110347626)],
+        friction=kreisel.CoulombContensou(0.5873942998382576, 7.752367984944429e-05),
+        restitution=0.95, rolling_resistance=0.0010544524094724867,
+    )  # fmt: skip
+    st = kreisel.PlayState(
+        quaternion=np.array([0.9478325640534756, 0.3187686159580551, 0.0, 0.0]),
+        omega=np.array([0.0, 0.4385744912100808, 0.43153134251765446]),
+        com=np.array([0.08287886857027044, 0.0, 0.04728666423219676]),
+        com_velocity=np.array([-0.002914145290041297, 0.0, 0.19373931947278386]),
+    )
+    tr = kreisel.simulate(top, st, 0.3, events=[kreisel.events.rest()])
+    # the property suite's bound on rounding (tests/floor_properties.py: 1e-9 of the energy)
+    total = np.asarray(tr.energy) + np.asarray(tr.dissipated)
+    assert np.diff(total).max() <= 1e-9 * total[0]
+    assert np.diff(np.asarray(tr.dissipated)).min() >= -1e-9 * total[0]

@@ -464,3 +464,19 @@ def test_a_fit_of_the_sliding_ball_gives_honest_two_sigma_intervals():
             assert 0.90 <= s <= 0.99, (k, share)
     else:
         assert np.mean([x for v in hits.values() for x in v]) >= 0.8, share
+
+
+def test_a_fit_stopped_in_a_local_minimum_says_so():
+    """From a start 7 % off in psi_dot, this noisy recording's fit stops in a local minimum of
+    the oscillating tip's misfit (chi2/dof 2.3 with the given sigma, against 1 +- 0.13): the
+    fit warns that its errors are not to be trusted; from 1 % off it finds the truth."""
+    t, xy = _ball_camera_truth()
+    noisy = xy + np.random.default_rng(1).normal(0.0, 1e-3, xy.shape)
+    obs = kreisel.Observations(t, noisy, "axis_tip", sigma=1e-3, axis_point=_AXIS_POINT)
+    e = _CAMERA_START
+    top = ball({**BALL, "mu": 0.8})
+    far = kreisel.EulerState(e["theta"], e["phi"], e["psi"], 0.3, e["phi_dot"], 140.0)
+    with pytest.warns(kreisel.FitWarning, match="misfit"):
+        stuck = kreisel.fit(top, far, obs, free=["theta_dot", "psi_dot", "mu"])
+    assert abs(stuck.values["psi_dot"] - 150.0) > 10 * stuck.errors["psi_dot"]
+    assert any("misfit" in n for n in stuck.notes)

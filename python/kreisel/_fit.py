@@ -26,6 +26,10 @@ FD_STEP = 1e-5
 # is one the data cannot see
 NULL_RCOND = 1e-6
 
+# How many standard deviations of chi2/dof above 1 a fit's misfit may lie before the fit
+# warns that its errors are not to be trusted.
+MISFIT_SIGMAS = 5.0
+
 
 class FitResult:
     """What :func:`fit` found: estimates, their errors and correlations, and the fitted run.
@@ -638,6 +642,19 @@ class _Problem:
                 "covariance (J^T J)^-1 with the given sigma (not scaled); chi2/dof = "
                 f"{chi2 / dof if dof > 0 else float('nan'):.4g}"
             )
+            # chi2/dof of a fit whose sigma and model are right is 1 +- sqrt(2/dof): far above
+            # it, the errors (which assume both) are not to be trusted.
+            spread = np.sqrt(2.0 / dof) if dof > 0 else np.inf
+            if dof > 0 and chi2 / dof > 1.0 + MISFIT_SIGMAS * spread:
+                text = (
+                    f"the misfit is larger than the given sigma explains: chi2/dof = "
+                    f"{chi2 / dof:.4g}, against 1 +- {spread:.2g} for the right model and "
+                    "sigma: the fit may have stopped in a local minimum (start closer to the "
+                    "data), or the model or sigma does not describe the data; the errors "
+                    "assume both do"
+                )
+                notes.append(text)
+                warnings.warn(text, FitWarning, stacklevel=3)
         # in the user's units: d v = v d(log v) for the positive quantities
         D = np.array([v if p.log else 1.0 for p, v in zip(self.params, values_x)])
         cov = cov_x * np.outer(D, D)

@@ -516,3 +516,73 @@ impl<F: FnMut(f64, &[f64; N]), const N: usize> Observer<N> for Stream<'_, '_, F,
         }
     }
 }
+
+/// `e / sk`, the error `e` in units of the scale `sk`: 0 where both are 0, infinite where
+/// only the scale is (an error against a zero scale is never acceptable).
+pub(crate) fn scaled(e: f64, sk: f64) -> f64 {
+    if sk > 0.0 {
+        e / sk
+    } else if e == 0.0 {
+        0.0
+    } else {
+        f64::INFINITY
+    }
+}
+
+/// The starting step size of Hairer's codes (`HINIT`, Hairer, Norsett & Wanner I, Sec. II.4),
+/// for DOP853 (`exponent` 1/8) and RADAU5 (1/4, in its transformed tolerances): `h` such that
+/// `h^(1/exponent) max(|f0|, |f'|) = 0.01` in the tolerance-scaled norm of the controlled
+/// components, with `|f'|` estimated by one explicit Euler step (one extra right-hand side,
+/// counted in `stats`).
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn initial_step<const N: usize, S: OdeSystem<N> + ?Sized>(
+    sys: &S,
+    t: f64,
+    y: &[f64; N],
+    f0: &[f64; N],
+    h_max: f64,
+    (rtol, atol): (f64, f64),
+    exponent: f64,
+    stats: &mut Stats,
+) -> f64 {
+    let mut sk = [0.0; N];
+    let (mut dnf, mut dny) = (0.0, 0.0);
+    let floor = sys.magnitude_floor();
+    let nc = sys.controlled().min(N);
+    for i in 0..nc {
+        sk[i] = atol + rtol * y[i].abs().max(floor[i]);
+        dnf += scaled(f0[i], sk[i]).powi(2);
+        dny += scaled(y[i], sk[i]).powi(2);
+    }
+    let mut h = if dnf <= 1e-10 || dny <= 1e-10 {
+        1e-6
+    } else {
+        (dny / dnf).sqrt() * 0.01
+    };
+    h = h.min(h_max);
+    let mut y1 = [0.0; N];
+    for i in 0..N {
+        y1[i] = y[i] + h * f0[i];
+    }
+    let mut f1 = [0.0; N];
+    sys.rhs(t + h, &y1, &mut f1);
+    stats.rhs_evals += 1;
+    let mut der2 = 0.0;
+    for i in 0..nc {
+        der2 += scaled(f1[i] - f0[i], sk[i]).powi(2);
+    }
+    let der2 = der2.sqrt() / h;
+    let der12 = der2.abs().max(dnf.sqrt());
+    let h1 = if der12 <= 1e-15 {
+        (h * 1e-3).max(1e-6)
+    } else {
+        (0.01 / der12).powf(exponent)
+    };
+    let h_new = (100.0 * h).min(h1).min(h_max);
+    if h_new > 0.0 && h_new.is_finite() {
+        h_new
+    } else {
+        // Degenerate scales (e.g. atol = 0 with a zero component): Hairer's fallback.
+        1e-6f64.min(h_max)
+    }
+}

@@ -34,7 +34,9 @@ use std::cell::{Cell, RefCell};
 use std::ops::ControlFlow;
 
 use self::coefficients as co;
-use super::{all_finite, fmadd, Dense, IntegrateError, Observer, OdeSystem, Stats};
+use super::{
+    all_finite, fmadd, initial_step, scaled, Dense, IntegrateError, Observer, OdeSystem, Stats,
+};
 
 /// Safety factor of the step-size controller (`dop853.f`: `SAFE`).
 const SAFETY: f64 = 0.9;
@@ -388,7 +390,16 @@ impl Dop853 {
         };
         let mut h = match self.h_init {
             Some(h) if h > 0.0 && h.is_finite() => h.min(h_max),
-            _ => self.initial_step(sys, t, &y, &work.k[0], h_max, &mut stats),
+            _ => initial_step(
+                sys,
+                t,
+                &y,
+                &work.k[0],
+                h_max,
+                (self.rtol, self.atol),
+                ERR_EXPONENT,
+                &mut stats,
+            ),
         };
 
         let mut rejected_last = false;
@@ -581,75 +592,6 @@ impl Dop853 {
             err = f64::INFINITY;
         }
         (y_new, err, finite)
-    }
-
-    /// Starting step size of `dop853.f` (`HINIT`, Hairer–Nørsett–Wanner Sec. II.4).
-    ///
-    /// Chooses `h` so that `h^8 * max(|f0|, |f'|) = 0.01` in the tolerance-scaled
-    /// norm, with `|f'|` estimated by one explicit Euler step (one extra
-    /// right-hand-side evaluation, counted in `stats`).
-    fn initial_step<const N: usize, S: OdeSystem<N> + ?Sized>(
-        &self,
-        sys: &S,
-        t: f64,
-        y: &[f64; N],
-        f0: &[f64; N],
-        h_max: f64,
-        stats: &mut Stats,
-    ) -> f64 {
-        let mut sk = [0.0; N];
-        let (mut dnf, mut dny) = (0.0, 0.0);
-        let floor = sys.magnitude_floor();
-        let nc = sys.controlled().min(N);
-        for i in 0..nc {
-            sk[i] = self.atol + self.rtol * y[i].abs().max(floor[i]);
-            dnf += scaled(f0[i], sk[i]).powi(2);
-            dny += scaled(y[i], sk[i]).powi(2);
-        }
-        let mut h = if dnf <= 1e-10 || dny <= 1e-10 {
-            1e-6
-        } else {
-            (dny / dnf).sqrt() * 0.01
-        };
-        h = h.min(h_max);
-        let mut y1 = [0.0; N];
-        for i in 0..N {
-            y1[i] = y[i] + h * f0[i];
-        }
-        let mut f1 = [0.0; N];
-        sys.rhs(t + h, &y1, &mut f1);
-        stats.rhs_evals += 1;
-        let mut der2 = 0.0;
-        for i in 0..nc {
-            der2 += scaled(f1[i] - f0[i], sk[i]).powi(2);
-        }
-        let der2 = der2.sqrt() / h;
-        let der12 = der2.abs().max(dnf.sqrt());
-        let h1 = if der12 <= 1e-15 {
-            (h * 1e-3).max(1e-6)
-        } else {
-            (0.01 / der12).powf(ERR_EXPONENT)
-        };
-        let h_new = (100.0 * h).min(h1).min(h_max);
-        if h_new > 0.0 && h_new.is_finite() {
-            h_new
-        } else {
-            // Degenerate scales (e.g. atol = 0 with a zero component): Hairer's fallback.
-            1e-6f64.min(h_max)
-        }
-    }
-}
-
-/// `e / sk` for the error norms, with a zero scale (possible only when `atol = 0`)
-/// giving 0 for `e == 0` and infinity otherwise, never NaN for finite `e`.
-#[inline]
-fn scaled(e: f64, sk: f64) -> f64 {
-    if sk > 0.0 {
-        e / sk
-    } else if e == 0.0 {
-        0.0
-    } else {
-        f64::INFINITY
     }
 }
 

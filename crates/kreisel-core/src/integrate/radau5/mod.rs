@@ -73,7 +73,7 @@
 
 use std::ops::{Add, ControlFlow, Div, Mul, Sub};
 
-use super::{all_finite, Dense, IntegrateError, Observer, OdeSystem, Stats};
+use super::{all_finite, initial_step, scaled, Dense, IntegrateError, Observer, OdeSystem, Stats};
 
 #[cfg(test)]
 mod tests;
@@ -505,19 +505,6 @@ enum NewtonFail {
     NonFinite,
 }
 
-/// `e / sk` for the error norms, with a zero scale giving 0 for `e == 0` and infinity
-/// otherwise (as in DOP853).
-#[inline]
-fn scaled(e: f64, sk: f64) -> f64 {
-    if sk > 0.0 {
-        e / sk
-    } else if e == 0.0 {
-        0.0
-    } else {
-        f64::INFINITY
-    }
-}
-
 impl Radau5 {
     /// Settings with the given tolerances and the defaults of [`Radau5::default`] otherwise.
     pub fn new(rtol: f64, atol: f64) -> Self {
@@ -696,7 +683,7 @@ impl Radau5 {
         let mut h = match (fixed, self.h_init) {
             (Some(n), _) => span / n as f64,
             (None, Some(h)) if h > 0.0 && h.is_finite() => h.min(h_max),
-            _ => self.initial_step(sys, t, &y, &f0, h_max, (rtol, atol), &mut stats),
+            _ => initial_step(sys, t, &y, &f0, h_max, (rtol, atol), 0.25, &mut stats),
         };
 
         let mut jac = [[0.0; N]; N];
@@ -1033,61 +1020,6 @@ impl Radau5 {
                     h_new
                 };
             }
-        }
-    }
-
-    /// Starting step size: Hairer's `hinit` (Hairer–Nørsett–Wanner I, Sec. II.4) with the
-    /// exponent 1/4 of the RADAU5 error estimate, in the transformed tolerances. One extra
-    /// evaluation of `f` (counted in `stats`).
-    #[allow(clippy::too_many_arguments)]
-    fn initial_step<const N: usize, S: OdeSystem<N> + ?Sized>(
-        &self,
-        sys: &S,
-        t: f64,
-        y: &[f64; N],
-        f0: &[f64; N],
-        h_max: f64,
-        (rtol, atol): (f64, f64),
-        stats: &mut Stats,
-    ) -> f64 {
-        let mut sk = [0.0; N];
-        let (mut dnf, mut dny) = (0.0, 0.0);
-        let floor = sys.magnitude_floor();
-        let nc = sys.controlled().min(N);
-        for i in 0..nc {
-            sk[i] = atol + rtol * y[i].abs().max(floor[i]);
-            dnf += scaled(f0[i], sk[i]).powi(2);
-            dny += scaled(y[i], sk[i]).powi(2);
-        }
-        let mut h = if dnf <= 1e-10 || dny <= 1e-10 {
-            1e-6
-        } else {
-            (dny / dnf).sqrt() * 0.01
-        };
-        h = h.min(h_max);
-        let mut y1 = [0.0; N];
-        for i in 0..N {
-            y1[i] = y[i] + h * f0[i];
-        }
-        let mut f1 = [0.0; N];
-        sys.rhs(t + h, &y1, &mut f1);
-        stats.rhs_evals += 1;
-        let mut der2 = 0.0;
-        for i in 0..nc {
-            der2 += scaled(f1[i] - f0[i], sk[i]).powi(2);
-        }
-        let der2 = der2.sqrt() / h;
-        let der12 = der2.abs().max(dnf.sqrt());
-        let h1 = if der12 <= 1e-15 {
-            (h * 1e-3).max(1e-6)
-        } else {
-            (0.01 / der12).powf(0.25)
-        };
-        let h_new = (100.0 * h).min(h1).min(h_max);
-        if h_new > 0.0 && h_new.is_finite() {
-            h_new
-        } else {
-            1e-6f64.min(h_max)
         }
     }
 }

@@ -152,8 +152,8 @@ def test_a_contact_with_no_consistent_force_never_pulls_energy_in():
     """The Painleve case after a landing (floor campaign, seed 1, case 3694): no set of
     contact modes is consistent even after the plastic impact. Sliding with the pulling normal
     force that no set allowed fed energy in through the friction (E + dissipated rose by 2 %
-    of the energy); the contact now sticks where sticking needs no pull (a sticking contact
-    does no work), and E + dissipated never rises beyond rounding."""
+    of the energy); the contact now sticks (a sticking contact does no work, even where its
+    normal force pulls), and E + dissipated never rises beyond rounding."""
     import kreisel
     from kreisel.shapes import Spheroid, Torus
 

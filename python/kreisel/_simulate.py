@@ -74,7 +74,8 @@ def _methods_by_name() -> dict[str, MethodInfo]:
 class EventRecord:
     """An event that happened: its name, time (s) and index in the ``events`` list (-1 for
     the model's own events: a play top's contact switches ``lift_off``, ``touchdown``,
-    ``slip_to_roll`` and ``roll_to_slip``).
+    ``slip_to_roll``, ``roll_to_slip``, ``tangential_impact``, ``flat``, and ``creep`` and
+    ``creep_end`` around a part sliding at the edge of its friction cone).
 
     Examples
     --------

@@ -39,7 +39,34 @@ pub enum Switch {
     /// A ring part's plane comes down onto the floor (the top lies flat on that rim): the
     /// run ends there ([`FLAT_LEVEL`]).
     Flat(usize),
+    /// A creeping part's slip grows past [`CREEP_EXIT`] times the stick speed: it slides on
+    /// under its law ([`Contacts::creeping`]).
+    CreepEnd(usize),
 }
+
+/// The lag of a creeping part's slip behind the consistent direction at which the creep
+/// ends ([`Rules::creep_exit`]): the slip's direction relaxes towards the consistent one at
+/// the rate `mu g / |slip|` (about: `mu N` over the contact's effective mass), while the
+/// consistent direction turns with the motion at about `Omega = max(|w|, sqrt(g / l))`; the
+/// creep's friction, along the consistent direction, is then off by about
+/// `Omega |slip| / (mu g)` radians. Past that the law's own direction takes over, relaxing
+/// at a rate of `Omega / CREEP_LAG`. The lag is a model error: Euler's disk under point
+/// Coulomb friction (benchmark T4) comes down flat at 8.7271 s with a lag of 0.1, 8.4790 s
+/// with 0.01, 8.45585 s with 1e-3 and 8.4555-8.4557 s with 1e-4 (rtol 1e-8 and 1e-10),
+/// where the law integrated through its creep gave 8.4557-8.4561 s.
+pub const CREEP_LAG: f64 = 1e-3;
+
+/// How far inside its cone (as a share of `mu m g`) the force a creeping part needs to stick
+/// must come before the part sticks. Between the cone's edge and this the creep holds the
+/// part with that force, its slip (of the order of the stick speed) constant, which is
+/// sticking but for the slip; the band keeps a part whose friction stays at the cone's edge
+/// (a top rolling with the friction it needs at mu N) from switching between the two at
+/// every rounding of the margin.
+pub const CREEP_STICK: f64 = 1e-3;
+
+/// The least a creeping part's sliding measure grows before the creep ends, as a multiple of
+/// the stick speed ([`Rules::tolerance`]): a creep ends above the speed it sticks at.
+pub const CREEP_EXIT: f64 = 10.0;
 
 /// The inclination's sine at which a ring part is taken to lie flat: the contact point's
 /// motion along the rim (and the precession rate) grows without bound as it comes down, as
@@ -56,6 +83,7 @@ impl Switch {
             Switch::RollToSlip(_) => "roll_to_slip",
             Switch::Jam(_) => "tangential_impact",
             Switch::Flat(_) => "flat",
+            Switch::CreepEnd(_) => "creep_end",
         }
     }
     /// The part.
@@ -66,7 +94,8 @@ impl Switch {
             | Switch::SlipToRoll(i)
             | Switch::RollToSlip(i)
             | Switch::Jam(i)
-            | Switch::Flat(i) => i,
+            | Switch::Flat(i)
+            | Switch::CreepEnd(i) => i,
         }
     }
 }
@@ -90,16 +119,19 @@ pub struct Phase {
 /// touchdown: the [`PlayTop::touchdown_offset`] below where the part starts the phase where
 /// that is lower than the floor (a part off the floor while others touch may start a hair
 /// below it, by the rounding of their constraints), so that every touchdown event function
-/// starts positive.
+/// starts positive. `slack` does the same for a sticking part's cone margin: a part that
+/// sticks from where its friction is at the cone's edge starts the phase at a margin of
+/// zero, to rounding.
 ///
-/// The last field is the slip the integration resolves, as a share of the speed scale: ten
+/// `resolved` is the slip the integration resolves, as a share of the speed scale: ten
 /// times its `rtol` (see [`Rules::tolerance`]).
-pub(crate) struct Rules<'a>(
-    pub &'a PlayTop,
-    pub RefCell<Solved>,
-    pub Cell<[f64; super::MAX_PARTS]>,
-    pub Cell<f64>,
-);
+pub(crate) struct Rules<'a> {
+    pub top: &'a PlayTop,
+    pub last: RefCell<Solved>,
+    pub floor: Cell<[f64; super::MAX_PARTS]>,
+    pub slack: Cell<[f64; super::MAX_PARTS]>,
+    pub resolved: Cell<f64>,
+}
 
 /// The forces of the last right-hand side of a phase (see [`Rules`]), keyed by its time and
 /// orientation as integrated: the integrator evaluates the right-hand side at the (projected)
@@ -129,19 +161,20 @@ impl Solved {
 impl<'a> Rules<'a> {
     /// The rules of `top`, nothing evaluated yet.
     pub(crate) fn new(top: &'a PlayTop) -> Self {
-        Rules(
+        Rules {
             top,
-            RefCell::new(Solved::NONE),
-            Cell::new([0.0; super::MAX_PARTS]),
-            Cell::new(0.0),
-        )
+            last: RefCell::new(Solved::NONE),
+            floor: Cell::new([0.0; super::MAX_PARTS]),
+            slack: Cell::new([0.0; super::MAX_PARTS]),
+            resolved: Cell::new(0.0),
+        }
     }
 
     /// The rules of `top` for a run at relative tolerance `rtol` (the slip it resolves: see
     /// [`Rules::tolerance`]).
     pub(crate) fn for_run(top: &'a PlayTop, rtol: f64) -> Self {
         let r = Self::new(top);
-        r.3.set(10.0 * rtol);
+        r.resolved.set(10.0 * rtol);
         r
     }
 
@@ -149,24 +182,24 @@ impl<'a> Rules<'a> {
     /// there.
     fn forces(&self, contacts: &Contacts, t: f64, y: &[f64; DIM]) -> Forces {
         {
-            let s = self.1.borrow();
+            let s = self.last.borrow();
             if s.t == t && s.q == [y[0], y[1], y[2], y[3]] {
                 return s.forces;
             }
         }
         let mut dy = [0.0; DIM];
-        self.0.dynamics(contacts, y, &mut dy)
+        self.top.dynamics(contacts, y, &mut dy)
     }
 
     /// The own coefficient below which a sliding part is taken to jam.
     fn jam_level(&self) -> f64 {
-        self.0.jam_level()
+        self.top.jam_level()
     }
 
     /// Ring part `i` lies flat from `y` on: sliding, or stuck where its sliding is within the
     /// tolerance and its law can stick; `y` put on the flat contact.
     fn lie_flat(&self, i: usize, y: &mut [f64; DIM]) -> Phase {
-        let top = self.0;
+        let top = self.top;
         let stuck = top.friction.can_stick() && top.flat_slide(i, y) <= self.tolerance(y);
         let contacts = top.flat_contacts(i, stuck);
         top.project(&contacts, y);
@@ -179,7 +212,7 @@ impl<'a> Rules<'a> {
     /// After an impulse: the parts touching and not separating resolved into modes, the
     /// rest in flight; the bounce's expected flight time.
     fn after_impulse(&self, y: &mut [f64; DIM], prev: &Contacts) -> Phase {
-        let top = self.0;
+        let top = self.top;
         let l = top.reach();
         // The impact was located a hair below the floor ([`PlayTop::touchdown_offset`]): the
         // top is put back on it, so that a part that bounces starts its flight at the floor
@@ -202,13 +235,31 @@ impl<'a> Rules<'a> {
         let flat = top
             .lying_flat(y, 1e-9 * l)
             .filter(|&i| cand & (1 << i) != 0);
-        let contacts = if let Some(i) = flat {
+        let mut contacts = if let Some(i) = flat {
             top.flat_contacts(i, top.friction.can_stick() && top.flat_slide(i, y) <= eps)
         } else if cand == 0 {
             Contacts::NONE
         } else {
             top.resolve(y, cand, prev, eps)
         };
+        top.project(&contacts, y);
+        if flat.is_none() {
+            // The projection moves the state onto the touching parts' constraints; where
+            // that turns a normal force into a pull (two parts that land together: a pushing
+            // pair at the impact's state pulled by 0.065 N once projected, and the floor's
+            // pull fed energy in through the friction), the modes are resolved again at the
+            // projected state, which the phase starts from.
+            let n = top.parts.n;
+            let mut dy = [0.0; DIM];
+            for _ in 0..3 {
+                let f = top.dynamics(&contacts, y, &mut dy);
+                if (0..n).all(|i| contacts.mode[i] == Mode::Flight || f.n[i] >= 0.0) {
+                    break;
+                }
+                contacts = top.resolve(y, contacts.mask(n), &contacts, eps);
+                top.project(&contacts, y);
+            }
+        }
         let k = top.kin(y);
         // The shortest separating part's flight, for the step limit; a separation below the
         // bounce cut-off (a round-off velocity) limits nothing.
@@ -219,14 +270,13 @@ impl<'a> Rules<'a> {
                 hop = hop.min(top.bounce(i, y, vn).unwrap_or(f64::INFINITY));
             }
         }
-        top.project(&contacts, y);
         Phase { contacts, hop }
     }
 }
 
 impl Rules<'_> {
     pub(crate) fn start(&self, y: &mut [f64; DIM]) -> (Phase, Option<Switch>) {
-        let top = self.0;
+        let top = self.top;
         let l = top.reach();
         let eps = self.tolerance(y);
         // A part on the floor and moving into it strikes it: the impact of a touchdown at
@@ -286,7 +336,7 @@ impl Rules<'_> {
     }
 
     pub(crate) fn watched(&self, phase: &Phase) -> Vec<Switch> {
-        let top = self.0;
+        let top = self.top;
         let stick = top.friction.can_stick();
         let mut out = Vec::with_capacity(3 * top.parts.n);
         if phase.contacts.flat {
@@ -313,6 +363,9 @@ impl Rules<'_> {
                     if stick {
                         out.push(Switch::SlipToRoll(i));
                     }
+                    if self.creeps(&phase.contacts, i) {
+                        out.push(Switch::CreepEnd(i));
+                    }
                     if jam {
                         out.push(Switch::Jam(i));
                     }
@@ -327,22 +380,42 @@ impl Rules<'_> {
     }
 
     pub(crate) fn value(&self, sw: Switch, phase: &Phase, t: f64, y: &[f64; DIM], eps: f64) -> f64 {
-        let top = self.0;
+        let top = self.top;
         let forces = || self.forces(&phase.contacts, t, y);
         match sw {
             Switch::Touchdown(i) => {
                 // Located a hair below the floor (see [`Rules`]).
                 let k = top.kin(y);
-                top.parts.shape[i].gap(k.zg, k.e3) + self.2.get()[i]
+                top.parts.shape[i].gap(k.zg, k.e3) + self.floor.get()[i]
             }
             Switch::LiftOff(i) => forces().n[i],
             Switch::SlipToRoll(i) if phase.contacts.flat => top.flat_slide(i, y) - eps,
+            // A creeping part sticks once the force sticking needs is back in its cone by
+            // CREEP_STICK of the friction's scale.
+            // The margin is the stick phase's: at the state put on the stick's constraints
+            // (its slip and drilling stopped, which ends a drilling resistance's torque).
+            Switch::SlipToRoll(i) if self.creeps(&phase.contacts, i) => {
+                let mut stuck = phase.contacts;
+                stuck.mode[i] = Mode::Roll;
+                stuck.creeping = 0;
+                let mut ys = *y;
+                top.project(&stuck, &mut ys);
+                CREEP_STICK * top.friction.mu() * top.m * top.g - top.creep_margin(i, &ys)
+            }
             Switch::SlipToRoll(i) => {
                 let k = top.kin(y);
                 let vp = top.parts.shape[i].point_velocity(k.v, k.w, k.e3);
                 top.slide_measure(vp, k.w[2]) - eps
             }
-            Switch::RollToSlip(i) => top.stick_margin(&forces(), i),
+            Switch::CreepEnd(i) => {
+                // The slip grows past the creep's range, or turns more than 60 degrees away
+                // from the direction the creep's friction opposes (the creep does not damp
+                // the slip across that direction, as the law does): the law takes over. So
+                // the creep's friction never feeds in more than 2 mu N eps of power.
+                let (size, along) = top.creep_slip(i, phase.contacts.dir[i], y);
+                (self.creep_exit(y, eps) - size).min(along - 0.5 * size + 2.0 * eps)
+            }
+            Switch::RollToSlip(i) => top.stick_margin(&forces(), i) + self.slack.get()[i],
             Switch::Jam(i) => {
                 // Sliding's own coefficient falls to the jam level, or the normal force it
                 // gives grows past a hundred weights (the coefficient heading for zero
@@ -363,25 +436,80 @@ impl Rules<'_> {
         }
     }
 
+    /// The sliding measure (m/s) at which a creep ends at `y`: `CREEP_LAG mu g / Omega`
+    /// ([`CREEP_LAG`]), at least [`CREEP_EXIT`] times the stick speed `eps`.
+    pub(crate) fn creep_exit(&self, y: &[f64; DIM], eps: f64) -> f64 {
+        let top = self.top;
+        let w = (y[4] * y[4] + y[5] * y[5] + y[6] * y[6]).sqrt();
+        let omega = w.max((top.g / top.reach()).sqrt());
+        (CREEP_LAG * top.friction.mu() * top.g / omega).max(CREEP_EXIT * eps)
+    }
+
+    /// Whether part `i` creeps in `c`: marked so, sliding, the only part touching, under a
+    /// law that can stick ([`Contacts::creeping`]).
+    pub(crate) fn creeps(&self, c: &Contacts, i: usize) -> bool {
+        let top = self.top;
+        c.creeping & (1 << i) != 0
+            && c.mode[i] == Mode::Slip
+            && !c.flat
+            && c.mask(top.parts.n) == 1 << i
+            && top.friction.can_stick()
+    }
+
     pub(crate) fn record(&self, sw: Switch) -> (&'static str, Option<usize>) {
         (sw.name(), Some(sw.part()))
     }
 
-    pub(crate) fn prepare(&self, phase: &mut Phase, y: &[f64; DIM], eps: f64) {
-        let top = self.0;
-        *self.1.borrow_mut() = Solved::NONE;
+    /// Readies a phase to start at `y`: the event functions' offsets, and the parts that stick
+    /// where their friction has already left the cone (by more than rounding: the state a
+    /// switch leaves them in) slide from the start, creeping where alone. Returns those
+    /// parts (bit mask), for the record.
+    pub(crate) fn prepare(&self, phase: &mut Phase, y: &[f64; DIM], eps: f64) -> u8 {
+        let top = self.top;
+        let n = top.parts.n;
+        *self.last.borrow_mut() = Solved::NONE;
         phase.contacts.creep = eps;
+        let mut slid = 0u8;
+        let mut slack = [0.0; super::MAX_PARTS];
+        if !phase.contacts.flat && phase.contacts.mask_of(Mode::Roll, n) != 0 {
+            let mut dy = [0.0; DIM];
+            let f = top.dynamics(&phase.contacts, y, &mut dy);
+            // Rounding of a cone margin: of the friction's own scale.
+            let round = 1e-12 * top.friction.mu() * top.m * top.g.max(1e-300);
+            for (i, s) in slack.iter_mut().enumerate().take(n) {
+                if phase.contacts.mode[i] != Mode::Roll {
+                    continue;
+                }
+                let margin = top.stick_margin(&f, i);
+                if margin < -round && f.n[i] >= 0.0 {
+                    phase.contacts.slide_against(i, &f);
+                    slid |= 1 << i;
+                } else {
+                    *s = (-margin).max(0.0) + round;
+                }
+            }
+            if slid != 0 && phase.contacts.mask(n) == slid && slid.count_ones() == 1 {
+                phase.contacts.creeping = slid;
+            }
+        }
+        self.slack.set(slack);
+        // Only a part alone on the floor and sliding creeps.
+        let c = phase.contacts;
+        phase.contacts.creeping = (0..n)
+            .filter(|&i| self.creeps(&c, i))
+            .fold(0, |acc, i| acc | (1 << i));
         let k = top.kin(y);
         let mut floor = [0.0; super::MAX_PARTS];
         for (i, f) in floor.iter_mut().enumerate().take(top.parts.n) {
             let gap = top.parts.shape[i].gap(k.zg, k.e3);
             *f = top.touchdown_offset() + (-gap).max(0.0);
         }
-        self.2.set(floor);
+        self.floor.set(floor);
+        slid
     }
 
     pub(crate) fn apply(&self, sw: Switch, phase: &Phase, y: &mut [f64; DIM]) -> Phase {
-        let top = self.0;
+        let top = self.top;
         let n = top.parts.n;
         let mut c = phase.contacts;
         match sw {
@@ -463,11 +591,26 @@ impl Rules<'_> {
                 // is tried in turn.
                 // "Stopped": within the tolerance, or no faster than part i is as it stops
                 // (its located measure may exceed the tolerance by the location's error).
-                let eps = {
+                let measure = {
                     let k = top.kin(y);
                     let vp = top.parts.shape[i].point_velocity(k.v, k.w, k.e3);
-                    self.tolerance(y).max(top.slide_measure(vp, k.w[2])) * 1.01
+                    top.slide_measure(vp, k.w[2])
                 };
+                let eps = self.tolerance(y);
+                if self.creeps(&c, i)
+                    && measure > (CREEP_EXIT * eps).max(1e-2 * self.creep_exit(y, eps))
+                {
+                    // The friction a creeping part needs is back in its cone, but its slip
+                    // has grown to a hundredth of the creep's range: the law's friction stops
+                    // it first (below that, the stick's impulse stops it).
+                    c.creeping &= !(1 << i);
+                    top.project(&c, y);
+                    return Phase {
+                        contacts: c,
+                        hop: phase.hop,
+                    };
+                }
+                let eps = eps.max(measure) * 1.01;
                 let mut dy = [0.0; DIM];
                 for round in 0..n {
                     let k = top.kin(y);
@@ -491,6 +634,10 @@ impl Rules<'_> {
                                 c.dir[j] = want.dir[j];
                             }
                         }
+                        // A part alone on the floor that cannot stick creeps.
+                        if c.mask(n) == 1 << i && c.mode[i] == Mode::Slip && push {
+                            c.creeping = 1 << i;
+                        }
                         break;
                     }
                     // The remaining (tolerance-sized) slips of the new sticking parts are
@@ -509,12 +656,34 @@ impl Rules<'_> {
                     hop: phase.hop,
                 }
             }
+            Switch::CreepEnd(i) => {
+                let (size, _) = top.creep_slip(i, c.dir[i], y);
+                if size < 0.5 * self.creep_exit(y, self.tolerance(y)) {
+                    // The slip turned away from the creep's direction: its component across
+                    // it is damped at once, as the law would in a time of |slip| / (mu g),
+                    // and the part creeps on ([`PlayTop::creep_slave`]).
+                    let e0 = top.kinetic_energy(y);
+                    top.creep_slave(i, c.dir[i], y);
+                    top.shed_energy(y, top.kinetic_energy(y) - e0);
+                } else {
+                    // The slip has grown past the creep's range: the law's own direction.
+                    c.creeping &= !(1 << i);
+                }
+                top.project(&c, y);
+                Phase {
+                    contacts: c,
+                    hop: phase.hop,
+                }
+            }
             Switch::RollToSlip(i) => {
                 let mut dy = [0.0; DIM];
                 c.slide_against(i, &top.dynamics(&c, y, &mut dy));
                 let f = top.dynamics(&c, y, &mut dy);
                 if f.n[i] < 0.0 {
                     c.mode[i] = Mode::Flight;
+                } else if c.mask(n) == 1 << i {
+                    // Alone on the floor, the part starts to slide from zero slip: it creeps.
+                    c.creeping = 1 << i;
                 }
                 top.project(&c, y);
                 Phase {
@@ -540,7 +709,7 @@ impl Rules<'_> {
     }
 
     pub(crate) fn max_step(&self, phase: &Phase, y: &[f64; DIM]) -> f64 {
-        let top = self.0;
+        let top = self.top;
         if phase.contacts.mask(top.parts.n) != 0 {
             // A part off the floor while others touch closes its gap smoothly (the step
             // control follows the motion); no limit, so a part that never touches changes
@@ -565,7 +734,7 @@ impl Rules<'_> {
     /// against 240 046 steps and 449 events with the threshold at 1e-5). At the default
     /// rtol (1e-10) and below, the threshold is the model's alone.
     pub(crate) fn tolerance(&self, y: &[f64; DIM]) -> f64 {
-        self.0.stick.max(self.3.get()) * self.0.speed_scale(y)
+        self.top.stick.max(self.resolved.get()) * self.top.speed_scale(y)
     }
 
     pub(crate) fn row(&self, phase: &Phase, y: &[f64; DIM]) -> PlayRow {
@@ -584,18 +753,18 @@ impl Rules<'_> {
         t_end: f64,
         obs: &mut O,
     ) -> PhaseResult {
-        let kernel = Kernel::of(self.0, &phase.contacts);
+        let kernel = Kernel::of(self.top, &phase.contacts);
         // One integrator per common kernel, each with only that kernel inlined
         // ([`PlayTop::rates_as`]).
         macro_rules! run {
             ($k:expr, $res:expr) => {
                 integrator.integrate(
                     &PhaseSystem::<{ $k }, { $res }> {
-                        top: self.0,
+                        top: self.top,
                         contacts: phase.contacts,
                         kernel,
-                        consts: Consts::of(self.0),
-                        last: &self.1,
+                        consts: Consts::of(self.top),
+                        last: &self.last,
                     },
                     t,
                     y,
@@ -604,7 +773,7 @@ impl Rules<'_> {
                 )
             };
         }
-        match (kernel.code(), self.0.has_resistance()) {
+        match (kernel.code(), self.top.has_resistance()) {
             (code::FLIGHT, false) => run!(code::FLIGHT, false),
             (code::FLIGHT, true) => run!(code::FLIGHT, true),
             (code::BALL, _) => run!(code::BALL, false),
@@ -612,6 +781,8 @@ impl Rules<'_> {
             (code::ONE_SLIP, true) => run!(code::ONE_SLIP, true),
             (code::ONE_STICK, false) => run!(code::ONE_STICK, false),
             (code::ONE_STICK, true) => run!(code::ONE_STICK, true),
+            (code::CREEP, false) => run!(code::CREEP, false),
+            (code::CREEP, true) => run!(code::CREEP, true),
             _ => run!(code::OTHER, false),
         }
     }
@@ -629,15 +800,15 @@ impl Rules<'_> {
         y: &[f64; DIM],
         dy: &mut [f64; DIM],
     ) {
-        let mut last = self.1.borrow_mut();
+        let mut last = self.last.borrow_mut();
         last.t = t;
         last.q = [y[0], y[1], y[2], y[3]];
-        self.0
+        self.top
             .rates(kernel, consts, contacts, y, dy, &mut last.forces);
     }
 
     pub(crate) fn mode_name(&self, phase: &Phase) -> &'static str {
-        phase.contacts.overall(self.0.parts.n).name()
+        phase.contacts.overall(self.top.parts.n).name()
     }
 }
 
@@ -732,7 +903,20 @@ pub(crate) fn drive(
             max_steps: MAX_STEPS,
         };
         let eps = h.tolerance(&y);
-        h.prepare(&mut phase, &y, eps);
+        let slid = h.prepare(&mut phase, &y, eps);
+        for i in (0..top.parts.n).filter(|&i| slid & (1 << i) != 0) {
+            for name in ["roll_to_slip", "creep"] {
+                if name == "creep" && phase.contacts.creeping & (1 << i) == 0 {
+                    continue;
+                }
+                info.events.push(EventRecord {
+                    index: None,
+                    name: name.into(),
+                    t,
+                    part: Some(i),
+                });
+            }
+        }
         let ph = phase;
         // The contact switches of this phase (terminal), then the watched events.
         let switches = h.watched(&ph);
@@ -822,7 +1006,8 @@ pub(crate) fn drive(
         let Some((switch, record)) = reason.filter(|_| !stopped && t < t_end) else {
             break;
         };
-        let before = h.row(&phase, &y).contacts.mode;
+        let before_contacts = phase.contacts;
+        let before = before_contacts.mode;
         let g_before: Vec<Option<f64>> =
             settings.events.iter().map(|e| value(e.kind, &y)).collect();
         let e_before = top.kinetic_energy(&y) + top.m * top.g * y[9] + y[13];
@@ -833,10 +1018,37 @@ pub(crate) fn drive(
         let after = h.row(&phase, &y).contacts.mode;
         let (own_name, own) = h.record(switch);
         n_switches += 1;
+        if own_name == "creep_end" && phase.contacts.creeping != 0 {
+            // The creep's slip was only turned back onto its direction: no event.
+            info.events.remove(record);
+        }
         if own_name == "slip_to_roll" && own.is_some_and(|i| after[i] == Mode::Slip) {
             // The part could not stick (its friction cannot hold it): it slides on, and no
-            // slip_to_roll is recorded.
+            // slip_to_roll is recorded; where it starts to creep, that is.
             info.events.remove(record);
+        }
+        // Parts that stop creeping but slide on (the creep's own end records itself).
+        let creep_to = before_contacts.creeping & !phase.contacts.creeping;
+        for i in (0..top.parts.n).filter(|&i| creep_to & (1 << i) != 0) {
+            if after[i] == Mode::Slip && !matches!(switch, Switch::CreepEnd(_)) {
+                info.events.push(EventRecord {
+                    index: None,
+                    name: "creep_end".into(),
+                    t,
+                    part: Some(i),
+                });
+            }
+        }
+        // Parts that start to creep at the switch (a part that cannot stick, or that starts
+        // to slide from rest, alone on the floor).
+        let creep_from = phase.contacts.creeping & !before_contacts.creeping;
+        for i in (0..top.parts.n).filter(|&i| creep_from & (1 << i) != 0) {
+            info.events.push(EventRecord {
+                index: None,
+                name: "creep".into(),
+                t,
+                part: Some(i),
+            });
         }
         for i in 0..top.parts.n {
             let name = match (before[i], after[i]) {

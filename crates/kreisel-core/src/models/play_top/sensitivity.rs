@@ -803,7 +803,7 @@ fn saltation(
     t: f64,
     rtol: f64,
 ) -> Result<(Vec<[f64; TAN]>, Vec<f64>)> {
-    let top = rules.0;
+    let top = rules.top;
     let scale = scales(top, y);
     let base = Kerneled::of(*top, phase);
     let f_minus = tangent_rates(y, &base.rates(phase, y));
@@ -811,9 +811,9 @@ fn saltation(
     // The switch's map, the driver's: the switch, then E + dissipated kept.
     let jump = |r: &Rules<'_>, yy: &[f64; DIM]| {
         let mut yy = *yy;
-        let e = total_energy(r.0, &yy);
+        let e = total_energy(r.top, &yy);
         let next = r.apply(sw, phase, &mut yy);
-        keep_energy(r.0, &mut yy, e);
+        keep_energy(r.top, &mut yy, e);
         (next, yy)
     };
     let (next, y1) = jump(rules, y);
@@ -870,7 +870,7 @@ fn saltation(
             sw.name()
         )));
     }
-    let floor = rules.2.get();
+    let floor = rules.floor.get();
     let mut out = Vec::with_capacity(s.len());
     let mut theta = Vec::with_capacity(s.len());
     for (sj, p) in s.iter().zip(&sens.params) {
@@ -884,8 +884,8 @@ fn saltation(
                 let d = parameter_step(top, j);
                 let (tp, tm) = (moved(top, j, d), moved(top, j, -d));
                 let (rp, rm) = (Rules::for_run(&tp, rtol), Rules::for_run(&tm, rtol));
-                rp.2.set(floor);
-                rm.2.set(floor);
+                rp.floor.set(floor);
+                rm.floor.set(floor);
                 gs += if slip.is_some() {
                     let (a, b) = (slip_vector(&tp, y), slip_vector(&tm, y));
                     (0..3).map(|c| unit[c] * (a[c] - b[c])).sum::<f64>() / (2.0 * d)
@@ -912,8 +912,8 @@ fn saltation(
                 Some((j, _)) => {
                     let (tp, tm) = (moved(top, j, e), moved(top, j, -e));
                     let (rp, rm) = (Rules::for_run(&tp, rtol), Rules::for_run(&tm, rtol));
-                    rp.2.set(floor);
-                    rm.2.set(floor);
+                    rp.floor.set(floor);
+                    rm.floor.set(floor);
                     (jump(&rp, &yp), jump(&rm, &ym))
                 }
                 None => (jump(rules, &yp), jump(rules, &ym)),
@@ -981,7 +981,9 @@ fn run<const N: usize>(
         let eps = h.tolerance(&y);
         // The row after a switch is the switch's (the phase not yet prepared), as the driver's.
         let row_after = pending.as_ref().map(|_| h.row(&phase, &y));
-        h.prepare(&mut phase, &y, eps);
+        if h.prepare(&mut phase, &y, eps) != 0 {
+            return Err(unsupported("roll_to_slip", t));
+        }
         let ph = phase;
         let base = Kerneled::of(*top, &ph);
         if let Some(th) = pending.take() {
@@ -1121,6 +1123,7 @@ fn run<const N: usize>(
                 | Switch::LiftOff(_)
                 | Switch::RollToSlip(_)
                 | Switch::SlipToRoll(_)
+                | Switch::CreepEnd(_)
         ) {
             return Err(unsupported(switch.name(), t));
         }

@@ -61,6 +61,8 @@ pub(crate) enum Kernel {
     },
     /// Part i alone touches, sticking.
     OneStick(usize),
+    /// Part i alone touches, creeping ([`Contacts::creeping`]).
+    Creep(usize),
     /// A ring lies flat.
     Flat,
     /// The joint system of this many unknowns.
@@ -80,6 +82,8 @@ pub(crate) mod code {
     pub const ONE_STICK: u8 = 3;
     /// Any other kernel (a ring lying flat, the joint systems): not inlined.
     pub const OTHER: u8 = 4;
+    /// [`super::Kernel::Creep`].
+    pub const CREEP: u8 = 5;
 }
 
 impl Kernel {
@@ -90,6 +94,7 @@ impl Kernel {
             Kernel::BallSlip { .. } => code::BALL,
             Kernel::OneSlip(_) => code::ONE_SLIP,
             Kernel::OneStick(_) => code::ONE_STICK,
+            Kernel::Creep(_) => code::CREEP,
             Kernel::Flat | Kernel::System(_) => code::OTHER,
         }
     }
@@ -113,6 +118,9 @@ impl Kernel {
         }
         match (touching, c.mode[first]) {
             (0, _) => Kernel::Flight,
+            (1, Mode::Slip) if c.creeping & (1 << first) != 0 && top.friction.can_stick() => {
+                Kernel::Creep(first)
+            }
             (1, Mode::Slip) => match (top.parts.shape[first], top.friction) {
                 (
                     Shape::Sphere { radius, z },
@@ -480,10 +488,12 @@ impl PlayTop {
             (Kernel::BallSlip { i, s, rho }, _) => {
                 self.ball_slip_rates(p, c, i, s, rho, y, dy, out)
             }
-            (Kernel::OneSlip(i), false) => self.one_slip_rates::<false>(p, c, i, y, dy, out),
-            (Kernel::OneSlip(i), true) => self.one_slip_rates::<true>(p, c, i, y, dy, out),
+            (Kernel::OneSlip(i), false) => self.one_slip_rates::<false, false>(p, c, i, y, dy, out),
+            (Kernel::OneSlip(i), true) => self.one_slip_rates::<true, false>(p, c, i, y, dy, out),
             (Kernel::OneStick(i), false) => self.one_stick_rates::<false>(p, i, y, dy, out),
             (Kernel::OneStick(i), true) => self.one_stick_rates::<true>(p, i, y, dy, out),
+            (Kernel::Creep(i), false) => self.one_slip_rates::<false, true>(p, c, i, y, dy, out),
+            (Kernel::Creep(i), true) => self.one_slip_rates::<true, true>(p, c, i, y, dy, out),
             (Kernel::Flat, _) => *out = self.flat_dynamics(c, y, dy),
             (Kernel::System(u), _) => match u {
                 0..=2 => self.dynamics_of::<2>(p, c, y, dy, out),
@@ -515,8 +525,13 @@ impl PlayTop {
             (code::BALL, Kernel::BallSlip { i, s, rho }) => {
                 self.ball_slip_rates(p, c, i, s, rho, y, dy, out)
             }
-            (code::ONE_SLIP, Kernel::OneSlip(i)) => self.one_slip_rates::<RES>(p, c, i, y, dy, out),
+            (code::ONE_SLIP, Kernel::OneSlip(i)) => {
+                self.one_slip_rates::<RES, false>(p, c, i, y, dy, out)
+            }
             (code::ONE_STICK, Kernel::OneStick(i)) => self.one_stick_rates::<RES>(p, i, y, dy, out),
+            (code::CREEP, Kernel::Creep(i)) => {
+                self.one_slip_rates::<RES, true>(p, c, i, y, dy, out)
+            }
             _ => self.rates_of(kernel, p, c, y, dy, out),
         }
     }
@@ -550,11 +565,7 @@ impl PlayTop {
         out: &mut Forces,
     ) {
         let k = self.kin(y);
-        let (wd0, res_n, res_0) = if self.has_resistance() {
-            self.free_terms::<true>(p, &k)
-        } else {
-            self.free_terms::<false>(p, &k)
-        };
+        let (wd0, res_n, res_0) = self.free_terms_any(p, &k);
         let vd0 = [0.0, 0.0, -self.g];
         let mut sys = System::<U>::new();
         let mut what = [Unknown::StickN(0); U];
@@ -614,6 +625,15 @@ impl PlayTop {
         (add(euler, p.inv_inertia(k, res_0)), res_n, res_0)
     }
 
+    /// [`Self::free_terms`], the resistance torques looked up.
+    fn free_terms_any(&self, p: &Consts, k: &Kin) -> ([f64; 3], [f64; 3], [f64; 3]) {
+        if self.has_resistance() {
+            self.free_terms::<true>(p, k)
+        } else {
+            self.free_terms::<false>(p, k)
+        }
+    }
+
     /// The power the resistance torques take (W) with the total normal force `n_total`.
     #[inline(always)]
     fn resistance_power<const RES: bool>(
@@ -651,9 +671,12 @@ impl PlayTop {
     }
 
     /// The kernel of one part `i` touching and sliding (the common phase of every top on a
-    /// floor): one unknown, its normal force, from the gap's acceleration being zero.
+    /// floor): one unknown, its normal force, from the gap's acceleration being zero. With
+    /// `CREEP`, the part creeps ([`Contacts::creeping`]): its friction is the consistent
+    /// sliding's at zero slip ([`Self::creep_friction`]), not its slip's (theory: play top,
+    /// "Creep: sliding at the edge of the cone").
     #[inline(always)]
-    fn one_slip_rates<const RES: bool>(
+    fn one_slip_rates<const RES: bool, const CREEP: bool>(
         &self,
         p: &Consts,
         c: &Contacts,
@@ -663,11 +686,244 @@ impl PlayTop {
         out: &mut Forces,
     ) {
         let k = self.kin(y);
-        let (wd0, res_n, res_0) = self.free_terms::<RES>(p, &k);
-        let part = self.part(i);
-        let arm = part.arm(k.e3);
+        let terms = self.free_terms::<RES>(p, &k);
+        let arm = self.part(i).arm(k.e3);
         let vp = add(k.v, cross(k.w, arm));
-        let (ft, mz) = self.friction_per_n(vp, k.w[2], c.dir[i], c.creep);
+        let fr = if CREEP {
+            self.creep_friction(p, &k, i, terms.0, terms.1, c.dir[i])
+        } else {
+            self.friction_per_n(vp, k.w[2], c.dir[i], c.creep)
+        };
+        self.slide_rates::<RES>(p, &k, i, arm, vp, fr, terms, dy, out);
+    }
+
+    /// The friction per unit normal force of part `i` creeping alone on the floor: the
+    /// sliding that is consistent at zero slip. In the ellipse's coordinates (the tangential
+    /// force and `mz / rbar`, `mz` 0 under point Coulomb friction) let `x` be the force
+    /// sticking needs and `W` the slip's response to the force (the contact's Delassus
+    /// operator with the normal force eliminated), so that the slip accelerates at
+    /// `W (F - x)`. Consistent sliding puts the full friction `F = -mu N s` against the slip
+    /// direction `s` while the slip accelerates along `s`: `W (F - x) = -beta F` with
+    /// `beta >= 0`, that is `F = (W + beta I)^-1 W x`, where `beta` is the root of
+    /// `|F| = mu N(F)` (the normal force follows F through the gap's row). At the cone's edge
+    /// `beta = 0` and `F = x`; `|F(beta)|` falls monotonically, so the root is bracketed
+    /// and found by regula falsi. Where `x` lies inside the cone, `F = x` (the slip's
+    /// acceleration is zero: the creep holds the slip until it ends in sticking, see
+    /// [`super::driver::CREEP_STICK`]); where the normal force would pull, the full
+    /// friction along `x`, or along `-dir` where `x` vanishes.
+    #[inline(always)]
+    fn creep_friction(
+        &self,
+        p: &Consts,
+        k: &Kin,
+        i: usize,
+        wd0: [f64; 3],
+        res_n: [f64; 3],
+        dir: [f64; 2],
+    ) -> ([f64; 2], f64) {
+        let mu = self.friction.mu();
+        let rb = self.friction.rbar();
+        let (g, _) = self.stick_system(p, k, i, wd0, res_n);
+        let (xs, ns) = {
+            let (x, mz) = self.stick_solve(p, k, i, wd0, res_n);
+            ([x[0], x[1], if rb > 0.0 { mz / rb } else { 0.0 }], x[2])
+        };
+        let along = |f: [f64; 3]| -> ([f64; 2], f64) {
+            let size = (f[0] * f[0] + f[1] * f[1] + f[2] * f[2]).sqrt();
+            if size > 0.0 {
+                ([mu * f[0] / size, mu * f[1] / size], mu * rb * f[2] / size)
+            } else {
+                ([-mu * dir[0], -mu * dir[1]], 0.0)
+            }
+        };
+        // The Schur complement of the normal row, and the normal force as F moves off x.
+        let gnn = g[3][3];
+        if gnn <= 0.0 || !gnn.is_finite() {
+            return along(xs);
+        }
+        let mut w = [[0.0; 3]; 3];
+        for a in 0..3 {
+            for b in 0..3 {
+                w[a][b] = g[a][b] - g[a][3] * g[3][b] / gnn;
+            }
+        }
+        let normal = |f: [f64; 3]| {
+            ns - (g[3][0] * (f[0] - xs[0]) + g[3][1] * (f[1] - xs[1]) + g[3][2] * (f[2] - xs[2]))
+                / gnn
+        };
+        let wx = [dot(w[0], xs), dot(w[1], xs), dot(w[2], xs)];
+        let force = |beta: f64| {
+            let mut m = w;
+            for (a, row) in m.iter_mut().enumerate() {
+                row[a] += beta;
+            }
+            solve3(m, wx)
+        };
+        let phi = |f: [f64; 3]| dot(f, f).sqrt() - mu * normal(f);
+        if ns <= 0.0 {
+            return along(xs);
+        }
+        if phi(xs) <= 0.0 {
+            // Inside the cone: the force sticking needs, which holds the slip where it is
+            // (of the order of the stick speed) until the creep ends in sticking.
+            return ([xs[0] / ns, xs[1] / ns], rb * xs[2] / ns);
+        }
+        // Bracket: beta large enough that |F| has fallen below mu N.
+        let scale = (w[0][0] + w[1][1] + w[2][2]).abs().max(f64::MIN_POSITIVE);
+        let (mut lo, mut hi) = (0.0f64, scale);
+        let (mut f_lo, mut f_hi) = (phi(xs), phi(force(hi)));
+        let mut tries = 0;
+        while f_hi > 0.0 && tries < 60 {
+            lo = hi;
+            f_lo = f_hi;
+            hi *= 4.0;
+            f_hi = phi(force(hi));
+            tries += 1;
+        }
+        if f_hi > 0.0 || !f_hi.is_finite() {
+            return along(xs);
+        }
+        // Regula falsi (Illinois) on phi(beta), to the rounding of beta.
+        let mut side = 0i8;
+        for _ in 0..60 {
+            let b = (lo * f_hi - hi * f_lo) / (f_hi - f_lo);
+            let b = if b > lo && b < hi { b } else { 0.5 * (lo + hi) };
+            let fb = phi(force(b));
+            if fb > 0.0 {
+                lo = b;
+                f_lo = fb;
+                if side == 1 {
+                    f_hi *= 0.5;
+                }
+                side = 1;
+            } else {
+                hi = b;
+                f_hi = fb;
+                if side == -1 {
+                    f_lo *= 0.5;
+                }
+                side = -1;
+            }
+            if hi - lo <= 1e-14 * hi {
+                break;
+            }
+        }
+        let f = force(0.5 * (lo + hi));
+        if normal(f) <= 0.0 {
+            return along(xs);
+        }
+        along(f)
+    }
+
+    /// Puts a creeping part `i`'s slip on the direction its creep's friction opposes: the
+    /// slip's component across it, which the friction law would damp at the rate
+    /// `mu N / (m* |slip|)` (the stiffness the creep steps over), is taken out by a tangential
+    /// impulse at the contact (its normal part keeps the gap's rate). The slip kept is the
+    /// projection onto the direction in the metric of the contact's inverse Delassus
+    /// operator, so the impulse only takes kinetic energy (`-|s - s'|^2 / 2` in that metric);
+    /// all of it where the slip points against the direction. At the creep's located turns
+    /// ([`super::driver::Switch::CreepEnd`]).
+    pub(crate) fn creep_slave(&self, i: usize, dir: [f64; 2], y: &mut [f64; DIM]) {
+        let p = Consts::of(self);
+        let k = self.kin(y);
+        let (wd0, res_n, _) = self.free_terms_any(&p, &k);
+        let rb = self.friction.rbar();
+        let (ft, mz) = self.creep_friction(&p, &k, i, wd0, res_n, dir);
+        let f = [ft[0], ft[1], if rb > 0.0 { mz / rb } else { 0.0 }];
+        let size = dot(f, f).sqrt();
+        if size == 0.0 {
+            return;
+        }
+        let d = [-f[0] / size, -f[1] / size, -f[2] / size];
+        let arm = self.part(i).arm(k.e3);
+        let vp = add(k.v, cross(k.w, arm));
+        let s = [vp[0], vp[1], if rb > 0.0 { rb * k.w[2] } else { 0.0 }];
+        let (g, _) = self.stick_system(&p, &k, i, wd0, [0.0; 3]);
+        let gnn = g[3][3];
+        if gnn <= 0.0 || !gnn.is_finite() {
+            return;
+        }
+        let mut w = [[0.0; 3]; 3];
+        for a in 0..3 {
+            for b in 0..3 {
+                w[a][b] = g[a][b] - g[a][3] * g[3][b] / gnn;
+            }
+        }
+        let wd = solve3(w, d);
+        let along = dot(s, wd) / dot(d, wd);
+        let keep = if along.is_finite() {
+            along.max(0.0)
+        } else {
+            0.0
+        };
+        let delta = [keep * d[0] - s[0], keep * d[1] - s[1], keep * d[2] - s[2]];
+        let pt = solve3(w, delta);
+        if !pt.iter().all(|v| v.is_finite()) {
+            return;
+        }
+        let pn = -(g[3][0] * pt[0] + g[3][1] * pt[1] + g[3][2] * pt[2]) / gnn;
+        let imp = [pt[0], pt[1], pn];
+        let mut torque = cross(arm, imp);
+        torque[2] += rb * pt[2];
+        let dw = p.inv_inertia(&k, torque);
+        for a in 0..3 {
+            y[10 + a] += imp[a] * p.inv_m;
+        }
+        let dwb = k.to_body(dw);
+        for a in 0..3 {
+            y[4 + a] += dwb[a];
+        }
+    }
+
+    /// A creeping part's slip `s` (the contact point's horizontal velocity and, under
+    /// Coulomb-Contensou friction, `rbar` times the drilling rate) and its projection on the
+    /// direction the creep's friction opposes, `s . d` with `d = -F / |F|`, at `y`.
+    pub(crate) fn creep_slip(&self, i: usize, dir: [f64; 2], y: &[f64; DIM]) -> (f64, f64) {
+        let p = Consts::of(self);
+        let k = self.kin(y);
+        let (wd0, res_n, _) = self.free_terms_any(&p, &k);
+        let rb = self.friction.rbar();
+        let (ft, mz) = self.creep_friction(&p, &k, i, wd0, res_n, dir);
+        let f = [ft[0], ft[1], if rb > 0.0 { mz / rb } else { 0.0 }];
+        let arm = self.part(i).arm(k.e3);
+        let vp = add(k.v, cross(k.w, arm));
+        let s = [vp[0], vp[1], if rb > 0.0 { rb * k.w[2] } else { 0.0 }];
+        let size = dot(f, f).sqrt();
+        let along = if size > 0.0 { -dot(s, f) / size } else { 0.0 };
+        (dot(s, s).sqrt(), along)
+    }
+
+    /// How far the friction part `i` would need to stick at `y` lies inside its cone
+    /// (ellipse) ([`Self::cone_margin`]), with only that part touching: negative while it
+    /// creeps.
+    pub(crate) fn creep_margin(&self, i: usize, y: &[f64; DIM]) -> f64 {
+        let p = Consts::of(self);
+        let k = self.kin(y);
+        let (wd0, res_n, _) = self.free_terms_any(&p, &k);
+        let (x, mz) = self.stick_solve(&p, &k, i, wd0, res_n);
+        self.cone_margin(x[2], [x[0], x[1]], mz)
+    }
+
+    /// The state derivative with part `i` alone sliding under the friction `fr` per unit
+    /// normal force (tangential force, drilling torque), the normal force from the gap's
+    /// acceleration being zero; `terms` from [`Self::free_terms`].
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    fn slide_rates<const RES: bool>(
+        &self,
+        p: &Consts,
+        k: &Kin,
+        i: usize,
+        arm: [f64; 3],
+        vp: [f64; 3],
+        fr: ([f64; 2], f64),
+        terms: ([f64; 3], [f64; 3], [f64; 3]),
+        dy: &mut [f64; DIM],
+        out: &mut Forces,
+    ) {
+        let k = *k;
+        let part = self.part(i);
+        let ((ft, mz), (wd0, res_n, res_0)) = (fr, terms);
         let f = [ft[0], ft[1], 1.0];
         let t = add(add(cross(arm, f), [0.0, 0.0, mz]), res_n);
         let dw = p.inv_inertia(&k, t);
@@ -757,16 +1013,110 @@ impl PlayTop {
     ) {
         let k = self.kin(y);
         let (wd0, res_n, res_0) = self.free_terms::<RES>(p, &k);
-        let part = self.part(i);
-        let arm = part.arm(k.e3);
+        let (x, mz) = self.stick_solve(p, &k, i, wd0, res_n);
+        let (_, dw) = self.stick_rows(p, &k, i, res_n);
+        let mut wd = add(
+            wd0,
+            add(
+                scale(x[0], dw[0]),
+                add(scale(x[1], dw[1]), scale(x[2], dw[2])),
+            ),
+        );
+        if self.friction.rbar() > 0.0 {
+            wd = add(wd, scale(mz, p.inv_inertia(&k, EZ)));
+        }
         let inv_m = p.inv_m;
-        // Each unknown's angular response and its row's measure (arm x e_j).
+        let vd = [inv_m * x[0], inv_m * x[1], inv_m * x[2] - self.g];
+        out.n[i] = x[2];
+        out.ft[i] = [x[0], x[1]];
+        out.mz[i] = mz;
+        let p_res = self.resistance_power::<RES>(&k, x[2], res_n, res_0);
+        Self::write_rates(&k, vd, wd, p_res, dy);
+    }
+
+    /// Each contact force component's row measure at part `i` (`arm x e_j`, j = x, y, z) and
+    /// the angular acceleration it gives (the normal one with the resistance torque per unit
+    /// normal force `res_n`).
+    #[inline(always)]
+    fn stick_rows(
+        &self,
+        p: &Consts,
+        k: &Kin,
+        i: usize,
+        res_n: [f64; 3],
+    ) -> ([[f64; 3]; 3], [[f64; 3]; 3]) {
+        let arm = self.part(i).arm(k.e3);
         let jw = [cross(arm, EX), cross(arm, EY), cross(arm, EZ)];
         let dw = [
-            p.inv_inertia(&k, jw[0]),
-            p.inv_inertia(&k, jw[1]),
-            p.inv_inertia(&k, add(jw[2], res_n)),
+            p.inv_inertia(k, jw[0]),
+            p.inv_inertia(k, jw[1]),
+            p.inv_inertia(k, add(jw[2], res_n)),
         ];
+        (jw, dw)
+    }
+
+    /// The response of part `i`'s contact point, alone on the floor, in the ellipse's
+    /// coordinates: `g[r][j]` is the acceleration of row r (slip x, slip y, `rbar` times the
+    /// drilling rate's rate, the gap) per unit of force j (x, y, `mz / rbar`, normal), and
+    /// `rhs` what makes them zero (`g f = rhs` at rest). Under point Coulomb friction the
+    /// third row and column are the identity's (no drilling torque).
+    #[inline(always)]
+    fn stick_system(
+        &self,
+        p: &Consts,
+        k: &Kin,
+        i: usize,
+        wd0: [f64; 3],
+        res_n: [f64; 3],
+    ) -> ([[f64; 4]; 4], [f64; 4]) {
+        let k = *k;
+        let part = self.part(i);
+        let (jw, dw) = self.stick_rows(p, &k, i, res_n);
+        let bias = part.slip_bias(k.w, k.e3);
+        // Rows and columns in the order x, y, drilling, normal.
+        const AT: [usize; 3] = [0, 1, 3];
+        let mut g = [[0.0; 4]; 4];
+        let mut rhs = [0.0; 4];
+        for r in 0..3 {
+            for c in 0..3 {
+                g[AT[r]][AT[c]] = dot(jw[r], dw[c]) + if r == c { p.inv_m } else { 0.0 };
+            }
+        }
+        rhs[0] = -(dot(jw[0], wd0) + bias[0]);
+        rhs[1] = -(dot(jw[1], wd0) + bias[1]);
+        rhs[3] = self.g - dot(jw[2], wd0) - part.gap_bias(k.w, k.e3);
+        let rb = self.friction.rbar();
+        if rb > 0.0 {
+            let dwm = p.inv_inertia(&k, EZ);
+            for r in 0..3 {
+                g[AT[r]][2] = rb * dot(jw[r], dwm);
+                g[2][AT[r]] = rb * dw[r][2];
+            }
+            g[2][2] = rb * rb * dwm[2];
+            rhs[2] = -rb * wd0[2];
+        } else {
+            g[2][2] = 1.0;
+        }
+        (g, rhs)
+    }
+
+    /// The contact force (x, y, normal) and drilling torque (0 but under Coulomb-Contensou
+    /// friction) that keep part `i`, alone on the floor, at rest on it: the contact point's
+    /// acceleration zero; the 3 x 3 (4 x 4) system of the point's response solved directly.
+    /// `wd0` and `res_n` from [`Self::free_terms`].
+    #[inline(always)]
+    fn stick_solve(
+        &self,
+        p: &Consts,
+        k: &Kin,
+        i: usize,
+        wd0: [f64; 3],
+        res_n: [f64; 3],
+    ) -> ([f64; 3], f64) {
+        let k = *k;
+        let part = self.part(i);
+        let inv_m = p.inv_m;
+        let (jw, dw) = self.stick_rows(p, &k, i, res_n);
         let bias = part.slip_bias(k.w, k.e3);
         let rhs = [
             -(dot(jw[0], wd0) + bias[0]),
@@ -802,22 +1152,7 @@ impl PlayTop {
         } else {
             (solve3(a, rhs), 0.0)
         };
-        let mut wd = add(
-            wd0,
-            add(
-                scale(x[0], dw[0]),
-                add(scale(x[1], dw[1]), scale(x[2], dw[2])),
-            ),
-        );
-        if rb > 0.0 {
-            wd = add(wd, scale(mz, p.inv_inertia(&k, EZ)));
-        }
-        let vd = [inv_m * x[0], inv_m * x[1], inv_m * x[2] - self.g];
-        out.n[i] = x[2];
-        out.ft[i] = [x[0], x[1]];
-        out.mz[i] = mz;
-        let p_res = self.resistance_power::<RES>(&k, x[2], res_n, res_0);
-        Self::write_rates(&k, vd, wd, p_res, dy);
+        (x, mz)
     }
 
     /// The contact forces' system of the parts in `c` at the kinematics `k`, with the free

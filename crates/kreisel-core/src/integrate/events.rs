@@ -178,18 +178,43 @@ impl<'a, const N: usize> Locator<'a, N> {
             let g_old = self.g_prev[k];
             let g_new = g(t, y);
             self.g_prev[k] = g_new;
-            if !self.specs[k].matches(g_old, g_new) {
+            // The far end of the bracket: the step's end, or, where the function ends the step
+            // on the side it started, closer to zero by more than half its value there (on the
+            // side the event is watched from), the first of two interior points where it has
+            // crossed: a function that dips through zero and back within one step (a normal
+            // force that turns to a pull and back between two step ends, as a fast-spinning
+            // top's does; the step size follows the state, not the event functions).
+            let (mut t_far, mut g_far) = (t, g_new);
+            let direction = self.specs[k].direction;
+            let watched_side = |g: f64| (direction <= 0 && g > 0.0) || (direction >= 0 && g < 0.0);
+            if watched_side(g_old)
+                && watched_side(g_new)
+                && g_new.abs() < g_old.abs()
+                && g_new.abs() < 2.0 * (g_old.abs() - g_new.abs())
+            {
+                let mut yt = [0.0; N];
+                for s in [1.0 / 3.0, 2.0 / 3.0] {
+                    let tau = t_prev + s * (t - t_prev);
+                    dense.eval(tau, &mut yt);
+                    let gs = g(tau, &yt);
+                    if self.specs[k].matches(g_old, gs) {
+                        (t_far, g_far) = (tau, gs);
+                        break;
+                    }
+                }
+            }
+            if !self.specs[k].matches(g_old, g_far) {
                 continue;
             }
-            let te = if g_new == 0.0 {
-                t
+            let te = if g_far == 0.0 {
+                t_far
             } else {
                 let mut yt = [0.0; N];
                 let phi = |tau: f64| {
                     dense.eval(tau, &mut yt);
                     g(tau, &yt)
                 };
-                brent_far_side(phi, t_prev, t, g_old, g_new, xtol)
+                brent_far_side(phi, t_prev, t_far, g_old, g_far, xtol)
             };
             self.pending.push((te, k));
         }

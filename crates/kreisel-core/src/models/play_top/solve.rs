@@ -1013,8 +1013,9 @@ impl PlayTop {
     ) {
         let k = self.kin(y);
         let (wd0, res_n, res_0) = self.free_terms::<RES>(p, &k);
-        let (x, mz) = self.stick_solve(p, &k, i, wd0, res_n);
-        let (_, dw) = self.stick_rows(p, &k, i, res_n);
+        let rows = self.stick_rows(p, &k, i, res_n);
+        let (x, mz) = self.stick_solve_with(p, &k, i, wd0, rows);
+        let dw = rows.1;
         let mut wd = add(
             wd0,
             add(
@@ -1113,10 +1114,23 @@ impl PlayTop {
         wd0: [f64; 3],
         res_n: [f64; 3],
     ) -> ([f64; 3], f64) {
+        let rows = self.stick_rows(p, k, i, res_n);
+        self.stick_solve_with(p, k, i, wd0, rows)
+    }
+
+    /// [`Self::stick_solve`] with the rows of [`Self::stick_rows`] given.
+    #[inline(always)]
+    fn stick_solve_with(
+        &self,
+        p: &Consts,
+        k: &Kin,
+        i: usize,
+        wd0: [f64; 3],
+        (jw, dw): ([[f64; 3]; 3], [[f64; 3]; 3]),
+    ) -> ([f64; 3], f64) {
         let k = *k;
         let part = self.part(i);
         let inv_m = p.inv_m;
-        let (jw, dw) = self.stick_rows(p, &k, i, res_n);
         let bias = part.slip_bias(k.w, k.e3);
         let rhs = [
             -(dot(jw[0], wd0) + bias[0]),

@@ -126,6 +126,9 @@ impl PlayTop {
                 Mode::Flight => PartState::Flight,
                 _ if c.flat => PartState::Flat,
                 Mode::Roll => PartState::turning(k.w),
+                // A creeping part rolls at the cone's edge: its slip is of the order of the
+                // stick speed ([`Contacts::creeping`]).
+                Mode::Slip if c.creeping & (1 << i) != 0 => PartState::turning(k.w),
                 Mode::Slip => {
                     let vp = self.parts.shape[i].point_velocity(k.v, k.w, k.e3);
                     if self.slides(c, i, vp, k.w) {
@@ -148,7 +151,10 @@ impl PlayTop {
         // Only a Coulomb-Contensou part in the engine's slip mode may pivot without sliding:
         // every other row is the engine's mode (no kinematics needed).
         let engine = r.mode();
-        if engine != Mode::Slip || r.contacts.flat || self.friction.rbar() <= 0.0 {
+        if engine != Mode::Slip
+            || r.contacts.flat
+            || (self.friction.rbar() <= 0.0 && r.contacts.creeping == 0)
+        {
             return engine;
         }
         let states = self.part_states(r);

@@ -6,11 +6,21 @@
 #![allow(clippy::needless_range_loop)]
 
 use super::parts::MAX_PARTS;
-use super::solve::{transpose, System, EX, EY, EZ, MAXU, ZERO};
+use super::solve::{transpose, Kin, System, EX, EY, EZ, MAXU, ZERO};
 use super::{add, scale, solve3, Friction, Mode, PlayTop, DIM};
 use crate::rotation::{cross, dot};
 
 impl PlayTop {
+    /// `K`, the velocity change of the material point at `arm` (from G) per unit impulse
+    /// there, as its columns (x, y, z impulse): the contact's inverse effective mass.
+    pub(super) fn point_response(&self, k: &Kin, arm: [f64; 3]) -> [[f64; 3]; 3] {
+        let col = |e: [f64; 3]| {
+            let (dv, dw) = self.response(k, e, cross(arm, e));
+            add(dv, cross(dw, arm))
+        };
+        [col(EX), col(EY), col(EZ)]
+    }
+
     /// The impact of ring part `i` coming down flat (its plane within
     /// [`super::driver::FLAT_LEVEL`] of the floor's) with restitution `e`: the whole rim
     /// strikes at once. The orientation is put exactly flat and the tilting rate removed; G's
@@ -80,12 +90,7 @@ impl PlayTop {
         }
         let k = self.kin(y);
         let arm = self.part(i).arm(k.e3);
-        // K: the contact point's velocity change per unit impulse (columns).
-        let col = |e: [f64; 3]| {
-            let (dv, dw) = self.response(&k, e, cross(arm, e));
-            add(dv, cross(dw, arm))
-        };
-        let kc = [col(EX), col(EY), col(EZ)];
+        let kc = self.point_response(&k, arm);
         let kmul = |p: [f64; 3]| {
             add(
                 add(scale(p[0], kc[0]), scale(p[1], kc[1])),

@@ -252,23 +252,13 @@ impl PlayTop {
             for i in (0..self.parts.n).filter(|&i| set & (1 << i) != 0) {
                 let k = self.kin(y);
                 let arm = self.part(i).arm(k.e3);
-                let u = add(k.v, cross(k.w, arm));
+                let u = self.part(i).point_velocity(k.v, k.w, k.e3);
                 let speed = dot(u, u).sqrt();
                 moving = moving.max(speed);
                 if speed <= 1e-15 * vs {
                     continue;
                 }
-                // The contact point's velocity per unit impulse, column by column.
-                let mut kmat = [[0.0; 3]; 3];
-                for c in 0..3 {
-                    let mut e = [0.0; 3];
-                    e[c] = 1.0;
-                    let (dv, dw) = self.response(&k, e, cross(arm, e));
-                    let du = add(dv, cross(dw, arm));
-                    for (r, row) in kmat.iter_mut().enumerate() {
-                        row[c] = du[r];
-                    }
-                }
+                let kmat = super::solve::transpose(self.point_response(&k, arm));
                 let p = super::solve3(kmat, scale(-1.0, u));
                 if !p.iter().all(|v| v.is_finite()) {
                     continue;

@@ -242,3 +242,16 @@ def test_random_floor_runs_keep_their_properties():
             lines.append(f"- case {i}: " + "; ".join(d[:300] for d in r["details"][:3]))
             lines.append("  " + (fp.reproducer(spec, T_END) if spec else "(not drawn)"))
         raise AssertionError("\n".join(lines))
+
+
+def test_sin_theta_of_a_quaternion_is_that_of_its_euler_angles_and_zero_lying_flat():
+    """``sin_theta_of_quaternion`` against ``sin(theta)`` of the Euler angles it was built
+    from, and exactly 0 for a top lying flat on either face (where ``sqrt(1 - u^2)`` of a
+    rounded ``u`` is 1.5e-8 per ulp)."""
+    rng = np.random.default_rng(3)
+    for _ in range(50):
+        phi, theta, psi = rng.uniform(0, 2 * np.pi), rng.uniform(0, np.pi), rng.uniform(0, 7)
+        q = fp._quat_zxz(phi, theta, psi)
+        assert abs(fp.sin_theta_of_quaternion(q) - math.sin(theta)) < 1e-15
+    flat = np.array([[0.0, 0.77165178, -0.63604523, 0.0], [0.6, 0.0, 0.0, 0.8]])
+    assert np.all(fp.sin_theta_of_quaternion(flat) == 0.0)

@@ -205,3 +205,32 @@ def test_a_normal_force_that_dips_through_zero_within_one_step_lifts_the_part_of
     full = kreisel.simulate(top, st, 0.1)
     total = np.asarray(full.energy) + np.asarray(full.dissipated)
     assert np.diff(np.asarray(full.dissipated)).min() >= -1e-9 * total[0]
+
+
+def test_a_normal_force_that_dips_through_zero_just_after_a_step_end_lifts_the_part_off():
+    """Floor campaign, seed 1, case 497: a sharp rim sliding under point Coulomb friction had
+    its normal force at 4.5e-6 N at one step end (t = 0.2029 s) and 5.3e-5 N at the next, and
+    turned to a pull in between, near the first end, where neither of the step's two interior
+    test points looked; the floor pulled and the friction fed in 4.7e-10 J (the dissipated
+    energy fell). Sampled densely here (t_eval at 20 µs), the part touching never pulls, and
+    the dissipated energy never falls."""
+    top = kreisel.PlayTop(
+        0.0019184481065155376, 9.818547949312572e-09, 1.9637095898625145e-08,
+        shape=[Torus(0.002110186769985083, 3.460834413669683e-05, z=-0.0034106724342431415),
+               Torus(0.005932673149855536, 0.0, z=0.0021238078258440287),
+               Sphere(0.0, z=-0.008983209717112377)],
+        friction=kreisel.Coulomb(0.0667544294346033),
+        drilling_resistance=8.505335946254026e-05,
+    )  # fmt: skip
+    st = kreisel.PlayState(
+        quaternion=np.array([0.1363137392303317, 0.9906657178367712, 0.0, 0.0]),
+        omega=np.array([0.0, 2.541878998551492, 227.51187809298105]),
+        com=np.array([0.0, 0.0, 0.009494139071307254]),
+        com_velocity=np.array([0.0, 0.0010731680048207271, -0.004438263591245263]),
+    )
+    full = kreisel.simulate(top, st, 0.21)
+    assert any(e.name == "lift_off" and 0.2029 < e.t < 0.2031 for e in full.events)
+    d = np.asarray(full.dissipated)
+    assert np.diff(d).min() >= -1e-12 * (full.energy[0] + d[0])
+    tr = kreisel.simulate(top, st, 0.21, t_eval=np.arange(0.19, 0.21, 20e-6))
+    assert np.asarray(tr.part_normal_force).min() >= -1e-9 * top.m * G

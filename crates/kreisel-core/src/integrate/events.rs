@@ -20,8 +20,10 @@
 //!   *far* side of the crossing (where `g` already has its post-crossing sign, or
 //!   is zero), so restarting an integration from a terminal event does not find
 //!   the same event again.
-//! * Two sign changes of the same `g` within one step cancel and are missed, as
-//!   in every step-wise locator; limit `h_max` if that matters.
+//! * Two sign changes of the same `g` within one step cancel. They are looked for where
+//!   one end of the step is closer to zero than twice the change of `g` over it (two
+//!   interior points, then the extremum of the cubic through the four values), and
+//!   otherwise missed, as in every step-wise locator; limit `h_max` if that matters.
 //! * Event functions are called once at `t0`, once per step at the step's end,
 //!   and a handful of times per located root. Located events are appended to [`Locator::events`]
 //!   (this `Vec` grows per event, not per step; reserve it to avoid even that).
@@ -178,28 +180,46 @@ impl<'a, const N: usize> Locator<'a, N> {
             let g_old = self.g_prev[k];
             let g_new = g(t, y);
             self.g_prev[k] = g_new;
-            // The far end of the bracket: the step's end, or, where the function ends the step
-            // on the side it started, closer to zero by more than half its value there (on the
-            // side the event is watched from), the first of two interior points where it has
-            // crossed: a function that dips through zero and back within one step (a normal
-            // force that turns to a pull and back between two step ends, as a fast-spinning
-            // top's does; the step size follows the state, not the event functions).
+            // The far end of the bracket: the step's end, or, where the function stays on the
+            // side the event is watched from but one end of the step is closer to zero than
+            // twice the change over the step, the first of two interior points where it has
+            // crossed, else the extremum of the cubic through the four values if it has
+            // crossed there: a function that dips through zero and back within one step (a
+            // normal force that turns to a pull and back between two step ends, as a
+            // fast-spinning top's does; the step size follows the state, not the event
+            // functions).
             let (mut t_far, mut g_far) = (t, g_new);
             let direction = self.specs[k].direction;
             let watched_side = |g: f64| (direction <= 0 && g > 0.0) || (direction >= 0 && g < 0.0);
-            if watched_side(g_old)
-                && watched_side(g_new)
-                && g_new.abs() < g_old.abs()
-                && g_new.abs() < 2.0 * (g_old.abs() - g_new.abs())
-            {
+            let (near, far) = if g_new.abs() < g_old.abs() {
+                (g_new.abs(), g_old.abs())
+            } else {
+                (g_old.abs(), g_new.abs())
+            };
+            if watched_side(g_old) && watched_side(g_new) && near < 2.0 * (far - near) {
                 let mut yt = [0.0; N];
-                for s in [1.0 / 3.0, 2.0 / 3.0] {
+                let mut at = |s: f64| {
                     let tau = t_prev + s * (t - t_prev);
                     dense.eval(tau, &mut yt);
-                    let gs = g(tau, &yt);
+                    (tau, g(tau, &yt))
+                };
+                let mut nodes = [g_old, 0.0, 0.0, g_new];
+                for (j, s) in [(1, 1.0 / 3.0), (2, 2.0 / 3.0)] {
+                    let (tau, gs) = at(s);
+                    nodes[j] = gs;
                     if self.specs[k].matches(g_old, gs) {
                         (t_far, g_far) = (tau, gs);
                         break;
+                    }
+                }
+                // Neither crossed: the function at the cubic's extremum closest to zero, a
+                // dip too close to one end of the step for the two points to see.
+                if t_far == t {
+                    if let Some(s) = cubic_dip(nodes) {
+                        let (tau, gs) = at(s);
+                        if self.specs[k].matches(g_old, gs) {
+                            (t_far, g_far) = (tau, gs);
+                        }
                     }
                 }
             }
@@ -241,6 +261,41 @@ impl<'a, const N: usize> Locator<'a, N> {
         }
         None
     }
+}
+
+/// Where in `(0, 1)` the cubic through `g` at `s = 0, 1/3, 2/3, 1` comes closest to zero
+/// from the side of `g[0]`: its interior extremum of least `sign(g[0]) p(s)`, if it has one
+/// there below both ends.
+fn cubic_dip(g: [f64; 4]) -> Option<f64> {
+    // Newton's forward differences in x = 3 s, then the monomial coefficients.
+    let d1 = g[1] - g[0];
+    let d2 = g[2] - 2.0 * g[1] + g[0];
+    let d3 = g[3] - 3.0 * g[2] + 3.0 * g[1] - g[0];
+    let (c1, c2, c3) = (d1 - 0.5 * d2 + d3 / 3.0, 0.5 * (d2 - d3), d3 / 6.0);
+    let p = |x: f64| g[0] + x * (c1 + x * (c2 + x * c3));
+    let sign = g[0].signum();
+    // p'(x) = c1 + 2 c2 x + 3 c3 x^2
+    let (a, b, c) = (3.0 * c3, 2.0 * c2, c1);
+    let mut roots = [f64::NAN; 2];
+    if a.abs() <= 1e-12 * (b.abs() + c.abs()) {
+        if b != 0.0 {
+            roots[0] = -c / b;
+        }
+    } else {
+        let disc = b * b - 4.0 * a * c;
+        if disc >= 0.0 {
+            let q = -0.5 * (b + b.signum() * disc.sqrt());
+            roots = [q / a, if q != 0.0 { c / q } else { f64::NAN }];
+        }
+    }
+    let ends = (sign * g[0]).min(sign * g[3]);
+    roots
+        .into_iter()
+        .filter(|x| *x > 0.0 && *x < 3.0)
+        .map(|x| (x, sign * p(x)))
+        .filter(|&(_, v)| v < ends)
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+        .map(|(x, _)| x / 3.0)
 }
 
 impl<const N: usize> Observer<N> for Locator<'_, N> {

@@ -738,31 +738,53 @@ fn events_direction_filter() {
     assert!(down.iter().all(|e| e.y[1] < 0.0));
 }
 
+/// An exact "interpolant" `y(t)` over the step `[t0, t1]`: the event locator alone.
+struct Exact<F: Fn(f64) -> [f64; 2]>(f64, f64, F);
+
+impl<F: Fn(f64) -> [f64; 2]> Dense<2> for Exact<F> {
+    fn t0(&self) -> f64 {
+        self.0
+    }
+    fn t1(&self) -> f64 {
+        self.1
+    }
+    fn eval(&self, t: f64, out: &mut [f64; 2]) {
+        *out = (self.2)(t);
+    }
+}
+
 #[test]
 fn locator_precision_on_exact_dense_output() {
     // The root finder alone, on an exact "interpolant" x = sin t over a long step.
-    struct ExactSin(f64, f64);
-    impl Dense<2> for ExactSin {
-        fn t0(&self) -> f64 {
-            self.0
-        }
-        fn t1(&self) -> f64 {
-            self.1
-        }
-        fn eval(&self, t: f64, out: &mut [f64; 2]) {
-            *out = [t.sin(), t.cos()];
-        }
-    }
     for k in [1.0, 10.0, 1000.0] {
         let (a, b) = (k * PI - 0.9, k * PI + 1.3);
         let mut g = |_t: f64, y: &[f64; 2]| y[0];
         let mut loc = Locator::new();
         loc.add(EventSpec::new(0, false), &mut g);
         loc.start(a, &[a.sin(), a.cos()]);
-        let ev = loc.check(b, &[b.sin(), b.cos()], &ExactSin(a, b));
+        let ev = loc.check(b, &[b.sin(), b.cos()], &Exact(a, b, |t| [t.sin(), t.cos()]));
         assert!(ev.is_none());
         let err = (loc.events[0].t - k * PI).abs();
         assert!(err <= 1e-12 * (k * PI).max(1.0), "k = {k}: {err:e}");
+    }
+}
+
+#[test]
+fn a_dip_through_zero_near_either_end_of_a_step_is_found() {
+    // g = (t - c)^2 - 0.0025 on an exact "interpolant" y = (t, 0): zeros at c -+ 0.05, both
+    // inside one long step, g > 0 at both of its ends; the dip lies within the first (or
+    // last) eighth of the step, where the two interior points at 1/3 and 2/3 do not look.
+    for (a, b, c) in [(0.145, 1.0, 0.2), (0.0, 0.855, 0.8)] {
+        let mut g = |_t: f64, y: &[f64; 2]| (y[0] - c) * (y[0] - c) - 0.0025;
+        let mut loc = Locator::new();
+        loc.add(EventSpec::new(-1, false), &mut g);
+        loc.start(a, &[a, 0.0]);
+        assert!(loc
+            .check(b, &[b, 0.0], &Exact(a, b, |t| [t, 0.0]))
+            .is_none());
+        assert_eq!(loc.events.len(), 1, "dip at {c}");
+        let err = (loc.events[0].t - (c - 0.05)).abs();
+        assert!(err <= 1e-12, "dip at {c}: {err:e}");
     }
 }
 

@@ -101,8 +101,10 @@ def test_the_disks_story_under_point_coulomb_friction_converges():
     assert abs(flat[0] - flat[1]) < 5e-5, flat
     assert abs(sticks[0] - sticks[1]) <= 2, sticks
     # The stick-slip cycles of the disk's last second, each resolved in a few hundred steps
-    # (integrating the law through the creep took 1.4 million steps at rtol 1e-8).
-    assert runs[0].stats["steps"] < 400_000
+    # (integrating the law through the creep took 1.4 million steps at rtol 1e-8; the creep
+    # mode, 177 899; with the slides whose explicit steps are held by stability continued by
+    # Radau IIA, 55 124).
+    assert runs[0].stats["steps"] < 120_000
 
 
 def test_a_top_rolling_at_its_cones_edge_creeps_instead_of_taking_nanosecond_steps():

@@ -63,7 +63,7 @@ pub mod implicit;
 pub mod radau5;
 pub mod rk4;
 
-pub use dop853::{Dop853, Dop853Dense, Dop853Work};
+pub use dop853::{Dop853, Dop853Dense, Dop853Work, STIFF_STEPS};
 pub use events::{Event, EventFn, EventSpec, Locator, WithEvents};
 pub use radau5::{Radau5, Radau5Dense};
 pub use rk4::{Rk4, Rk4Dense};
@@ -178,6 +178,21 @@ impl<O: Observer<N> + ?Sized, const N: usize> Observer<N> for &mut O {
     }
     fn stop_point(&self) -> Option<(f64, [f64; N])> {
         (**self).stop_point()
+    }
+}
+
+/// An observer that goes on observing a run continued by another integrator from where the
+/// first stopped ([`Dop853::stiff_stop`]): the second integrator's `start` is not passed on,
+/// so the observer's state (its last event-function values, the rows it has written) carries
+/// over; every step and the stop point are.
+pub struct Resumed<'a, O: ?Sized>(pub &'a mut O);
+
+impl<O: Observer<N> + ?Sized, const N: usize> Observer<N> for Resumed<'_, O> {
+    fn step(&mut self, t: f64, y: &[f64; N], dense: &dyn Dense<N>) -> ControlFlow<()> {
+        self.0.step(t, y, dense)
+    }
+    fn stop_point(&self) -> Option<(f64, [f64; N])> {
+        self.0.stop_point()
     }
 }
 
@@ -338,6 +353,23 @@ pub struct Stats {
     /// Factorisations of the Newton iteration matrices, each one real and one complex
     /// `N x N` LU decomposition ([`Radau5`] only, else 0).
     pub lu_decomps: u64,
+    /// Integrations that stopped because the problem had become stiff
+    /// ([`Dop853::stiff_stop`]).
+    pub stiff_stops: u64,
+}
+
+impl Stats {
+    /// The counts of two integrations, one after the other.
+    pub fn plus(&self, o: &Stats) -> Stats {
+        Stats {
+            steps: self.steps + o.steps,
+            rejected: self.rejected + o.rejected,
+            rhs_evals: self.rhs_evals + o.rhs_evals,
+            jacobians: self.jacobians + o.jacobians,
+            lu_decomps: self.lu_decomps + o.lu_decomps,
+            stiff_stops: self.stiff_stops + o.stiff_stops,
+        }
+    }
 }
 
 /// Why an integration stopped before reaching `t_end`.

@@ -486,6 +486,7 @@ fn h_max_and_fixed_steps_via_h_init() {
         h_init: Some(0.1),
         h_max: 0.1,
         max_steps: 1000,
+        stiff_stop: None,
     };
     let mut rec = EveryStep::new();
     let (t, _, stats) = dop
@@ -654,6 +655,7 @@ fn non_finite_rhs_is_reported() {
 fn max_steps_is_honoured() {
     let dop = Dop853 {
         max_steps: 25,
+        stiff_stop: None,
         ..Dop853::new(1e-12, 1e-12)
     };
     let mut rec = EveryStep::new();
@@ -906,4 +908,67 @@ fn a_magnitude_floor_measures_a_quadrature_against_its_scale() {
     // and both are right: Q(2 pi) = (1 - cos(80 pi)) / 40 = 0
     assert!(y_floored[4].abs() < 1e-9, "{}", y_floored[4]);
     assert!(y_own[4].abs() < 1e-10, "{}", y_own[4]);
+}
+
+/// Prothero and Robinson's stiff test, `y' = lambda (y - sin t) + cos t`, `y(0) = 0`: the
+/// solution is `sin t` for every `lambda`; with `lambda = -1e4` the explicit steps are held
+/// by stability (`h |lambda|` near the boundary) long after the transient.
+struct ProtheroRobinson(f64);
+
+impl OdeSystem<1> for ProtheroRobinson {
+    fn rhs(&self, t: f64, y: &[f64; 1], dy: &mut [f64; 1]) {
+        dy[0] = self.0 * (y[0] - t.sin()) + t.cos();
+    }
+}
+
+#[test]
+fn dop853_stops_where_a_problem_is_stiff_and_radau5_goes_on() {
+    let dop = Dop853 {
+        stiff_stop: Some(5.0),
+        ..Dop853::new(1e-8, 1e-10)
+    };
+    // Not stiff: the oscillator at 8th order, h |lambda| = h below 5 (stops never).
+    let mut rec = EveryStep::new();
+    let (t, _, st) = dop
+        .integrate(&Oscillator, 0.0, [0.0, 1.0], 50.0, &mut rec)
+        .unwrap();
+    assert_eq!((t, st.stiff_stops), (50.0, 0));
+    // Stiff: stops after STIFF_STEPS steps over the bound, early in the run.
+    let sys = ProtheroRobinson(-1e4);
+    let mut rec = EveryStep::new();
+    let (t1, y1, st) = dop.integrate(&sys, 0.0, [0.0], 10.0, &mut rec).unwrap();
+    assert_eq!(st.stiff_stops, 1);
+    assert!(
+        t1 < 0.1 && st.steps >= u64::from(STIFF_STEPS),
+        "{t1} {st:?}"
+    );
+    assert!((y1[0] - t1.sin()).abs() < 1e-8);
+    // The rest by Radau5, the observer going on without a second start: its record is one
+    // run, and the end is the exact solution's to the tolerance, in far fewer steps than the
+    // explicit method takes for the whole interval.
+    let n1 = rec.ts.len();
+    let (t2, y2, more) = Radau5::new(1e-8, 1e-10)
+        .integrate(&sys, t1, y1, 10.0, &mut Resumed(&mut rec))
+        .unwrap();
+    assert_eq!(t2, 10.0);
+    assert!(
+        (y2[0] - 10f64.sin()).abs() < 1e-7,
+        "{}",
+        y2[0] - 10f64.sin()
+    );
+    assert_eq!(rec.ts.len(), n1 + more.steps as usize);
+    assert!(rec.ts.windows(2).all(|w| w[1] > w[0]));
+    let explicit = Dop853::new(1e-8, 1e-10)
+        .integrate(&sys, 0.0, [0.0], 10.0, &mut NullObserver)
+        .unwrap()
+        .2;
+    assert!(
+        more.steps * 20 < explicit.steps,
+        "{} {}",
+        more.steps,
+        explicit.steps
+    );
+    let sum = st.plus(&more);
+    assert_eq!(sum.steps, st.steps + more.steps);
+    assert_eq!(sum.stiff_stops, 1);
 }

@@ -302,6 +302,7 @@ impl Settings {
             h_init: None,
             h_max: f64::INFINITY,
             max_steps: MAX_STEPS,
+            stiff_stop: None,
         }
     }
 

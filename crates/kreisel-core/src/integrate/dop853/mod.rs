@@ -86,7 +86,21 @@ pub struct Dop853 {
     pub h_max: f64,
     /// Largest number of step attempts (accepted + rejected), like `NMAX` of `dop853.f`.
     pub max_steps: u64,
+    /// Stop where the problem has become stiff: after [`STIFF_STEPS`] accepted steps in a
+    /// row whose estimate of `h |lambda|` (the test of `dop853.f`, below) exceeds this
+    /// bound, the integration returns at the last step's end with [`Stats::stiff_stops`]
+    /// set, for the caller to go on with an implicit method. `None`: never stop.
+    ///
+    /// The estimate: `h |f(t + h, y_new) - f(t + h, Y_12)| / |y_new - Y_12|`, with `Y_12` the
+    /// last stage's value (at `t + h` too), a Lipschitz constant along the direction the
+    /// solution's error takes; where it stays near the stability boundary (about 6 on the
+    /// negative real axis), stability, not accuracy, sets the steps.
+    pub stiff_stop: Option<f64>,
 }
+
+/// Accepted steps in a row with `h |lambda|` over [`Dop853::stiff_stop`] that make a problem
+/// stiff (`dop853.f` reports stiffness after 15).
+pub const STIFF_STEPS: u32 = 15;
 
 impl Default for Dop853 {
     /// `rtol = 1e-8`, `atol = 1e-10`, automatic first step, no `h_max`, `max_steps = 100_000`.
@@ -97,6 +111,7 @@ impl Default for Dop853 {
             h_init: None,
             h_max: f64::INFINITY,
             max_steps: 100_000,
+            stiff_stop: None,
         }
     }
 }
@@ -110,6 +125,8 @@ impl Default for Dop853 {
 #[derive(Clone, Debug)]
 pub struct Dop853Work<const N: usize> {
     k: [[f64; N]; 13],
+    /// The last stage's value `Y_12` (at `t + h`) of the last attempt: the stiffness test.
+    y12: [f64; N],
     t0: f64,
     t1: f64,
     h: f64,
@@ -139,6 +156,7 @@ impl<const N: usize> Dop853Work<N> {
     pub fn new() -> Self {
         Self {
             k: [[0.0; N]; 13],
+            y12: [0.0; N],
             t0: 0.0,
             t1: 0.0,
             h: 0.0,
@@ -404,6 +422,7 @@ impl Dop853 {
 
         let mut rejected_last = false;
         let mut nonfinite_last = false;
+        let mut stiff_run = 0u32;
         loop {
             let attempts = stats.steps + stats.rejected;
             if attempts >= self.max_steps {
@@ -420,7 +439,8 @@ impl Dop853 {
             let last = t_end - t <= (1.01 * h).min(h_max);
             let (h_step, t_new) = if last { (t_end - t, t_end) } else { (h, t + h) };
 
-            let (mut y_new, err, finite) = self.attempt(sys, t, &y, h_step, &mut work.k);
+            let (mut y_new, err, finite) =
+                self.attempt(sys, t, &y, h_step, &mut work.k, &mut work.y12);
             stats.rhs_evals += 11;
             if !finite {
                 stats.rejected += 1;
@@ -472,6 +492,22 @@ impl Dop853 {
             if last {
                 return Ok((t_new, y_new, stats));
             }
+            if let Some(bound) = self.stiff_stop {
+                let (mut num, mut den) = (0.0, 0.0);
+                for i in 0..N {
+                    num += (work.k[12][i] - work.k[11][i]).powi(2);
+                    den += (y_new[i] - work.y12[i]).powi(2);
+                }
+                if den > 0.0 && h_step * (num / den).sqrt() > bound {
+                    stiff_run += 1;
+                    if stiff_run >= STIFF_STEPS {
+                        stats.stiff_stops += 1;
+                        return Ok((t_new, y_new, stats));
+                    }
+                } else {
+                    stiff_run = 0;
+                }
+            }
             work.k[0] = work.k[12];
             t = t_new;
             y = y_new;
@@ -497,7 +533,7 @@ impl Dop853 {
     ) -> ([f64; N], f64) {
         sys.rhs(t, y, &mut work.k[0]);
         let t_new = t + h;
-        let (y_new, err, finite) = self.attempt(sys, t, y, h, &mut work.k);
+        let (y_new, err, finite) = self.attempt(sys, t, y, h, &mut work.k, &mut work.y12);
         sys.rhs(t_new, &y_new, &mut work.k[12]);
         work.set_step(t, t_new, h, y, &y_new);
         let finite = finite && all_finite(&work.k[12]);
@@ -516,6 +552,7 @@ impl Dop853 {
         y: &[f64; N],
         h: f64,
         k: &mut [[f64; N]; 13],
+        y12: &mut [f64; N],
     ) -> ([f64; N], f64, bool) {
         let mut finite = all_finite(&k[0]);
         let mut ys = [0.0; N];
@@ -563,6 +600,7 @@ impl Dop853 {
         stage!(9; 0 1 2 3 4 5 6 7 8);
         stage!(10; 0 1 2 3 4 5 6 7 8 9);
         stage!(11; 0 1 2 3 4 5 6 7 8 9 10);
+        *y12 = ys;
         let acc = combo!(co::B; 0 1 2 3 4 5 6 7 8 9 10 11);
         let e5 = combo!(co::E5; 0 1 2 3 4 5 6 7 8 9 10 11);
         let bhh = combo!(BHH; 0 1 2 3 4 5 6 7 8 9 10 11);

@@ -977,6 +977,7 @@ fn run<const N: usize>(
             h_init: None,
             h_max: h.max_step(&phase, &y),
             max_steps: MAX_STEPS,
+            stiff_stop: None,
         };
         let eps = h.tolerance(&y);
         // The row after a switch is the switch's (the phase not yet prepared), as the driver's.

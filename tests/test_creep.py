@@ -103,7 +103,7 @@ def test_the_disks_story_under_point_coulomb_friction_converges():
     # The stick-slip cycles of the disk's last second, each resolved in a few hundred steps
     # (integrating the law through the creep took 1.4 million steps at rtol 1e-8; the creep
     # mode, 177 899; with the slides whose explicit steps are held by stability continued by
-    # Radau IIA, 55 124).
+    # Radau IIA, 62 831).
     assert runs[0].stats["steps"] < 120_000
 
 

@@ -234,3 +234,26 @@ def test_a_normal_force_that_dips_through_zero_just_after_a_step_end_lifts_the_p
     assert np.diff(d).min() >= -1e-12 * (full.energy[0] + d[0])
     tr = kreisel.simulate(top, st, 0.21, t_eval=np.arange(0.19, 0.21, 20e-6))
     assert np.asarray(tr.part_normal_force).min() >= -1e-9 * top.m * G
+
+
+def test_a_creep_that_starts_with_its_slip_turned_away_ends_when_the_slip_grows():
+    """Floor campaign, seed 1, case 4311: a spheroid-and-ring top on its ball failed to stick
+    at 0.1147 s and crept, its round-off slip (2e-9 m/s) pointing against the creep's
+    direction; the creep's test of a slip turned away started on its far side, so it never saw
+    the slip grow past the creep's range (about 1e-4 m/s): the creep went on to a slip of
+    0.23 m/s for 57 ms, holding the needed force, and fed in 5.9e-8 J. Now the creep ends
+    within a millisecond and the dissipated energy never falls."""
+    top = kreisel.PlayTop(
+        0.024218707600552634, 2.5677927600460885e-06, 3.846201657968647e-07,
+        shape=[Sphere(0.006000592635596068, z=-0.005132277837348853),
+               Torus(0.00913205499903357, 0.0, z=0.03744489998740207)],
+        friction=CoulombContensou(0.1902084440374015, 3.351580792786797e-05),
+        restitution=0.8398052432808857, drilling_resistance=0.0002826841293877516,
+    )  # fmt: skip
+    st = top.state(theta=2.1790141715375135, phi=0.17983790146124692, psi=1.6635254735690737)
+    tr = kreisel.simulate(top, st, 0.2)
+    creeps = [e.t for e in tr.events if e.name == "creep"]
+    ends = [e.t for e in tr.events if e.name == "creep_end"]
+    assert creeps and all(any(0 <= t1 - t0 < 1e-3 for t1 in ends) for t0 in creeps)
+    d = np.asarray(tr.dissipated)
+    assert np.diff(d).min() >= -1e-12 * (tr.energy[0] + d[0])

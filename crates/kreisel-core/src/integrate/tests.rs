@@ -943,6 +943,13 @@ fn dop853_stops_where_a_problem_is_stiff_and_radau5_goes_on() {
         "{t1} {st:?}"
     );
     assert!((y1[0] - t1.sin()).abs() < 1e-8);
+    // On a linear problem the estimate is h |lambda| itself: the last STIFF_STEPS steps all
+    // had h |lambda| over the bound, the one before them (or the start) not necessarily.
+    let h: Vec<f64> = rec.ts.windows(2).map(|w| w[1] - w[0]).collect();
+    let last = &h[h.len() - STIFF_STEPS as usize..];
+    assert!(last.iter().all(|&h| h * 1e4 > 5.0), "{last:?}");
+    // and the explicit steps sit at DOP853's stability boundary (about 6 on the real axis)
+    assert!(last.iter().all(|&h| h * 1e4 < 7.0), "{last:?}");
     // The rest by Radau5, the observer going on without a second start: its record is one
     // run, and the end is the exact solution's to the tolerance, in far fewer steps than the
     // explicit method takes for the whole interval.

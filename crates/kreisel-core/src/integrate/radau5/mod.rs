@@ -515,6 +515,18 @@ impl Radau5 {
         }
     }
 
+    /// Settings whose error estimate is held to `rtol` and `atol` themselves (the local
+    /// error an explicit method such as [`super::Dop853`] holds at those tolerances), the
+    /// inverse of the transformation of [`Radau5`]'s tolerances (`rtol = (10 rtol')^(3/2)`),
+    /// `rtol` no smaller than 1e-13, where the Newton iteration stalls. At tight tolerances
+    /// the transformation is far looser than the tolerance itself (at rtol 1e-10 the local
+    /// error is held to 2e-8): a caller that continues an explicit method's run by this one
+    /// keeps its accuracy so.
+    pub fn holding_local(rtol: f64, atol: f64) -> Self {
+        let outer = (10.0 * rtol).powf(1.5).max(1e-13);
+        Self::new(outer, atol * outer / rtol)
+    }
+
     fn check_tolerances(&self) {
         assert!(
             self.rtol >= 0.0 && self.atol >= 0.0 && (self.rtol > 0.0 || self.atol > 0.0),

@@ -59,8 +59,9 @@ pub enum Switch {
     /// A ring part's plane comes down onto the floor (the top lies flat on that rim): the
     /// run ends there ([`FLAT_LEVEL`]).
     Flat(usize),
-    /// A creeping part's slip grows past [`CREEP_EXIT`] times the stick speed: it slides on
-    /// under its law ([`Contacts::creeping`]).
+    /// A creeping part's slip grows past the creep's range (about [`CREEP_LAG`] mu g / Omega): it slides
+    /// on under its law; or the slip turns 60 degrees away from the creep's direction: it is
+    /// put back on it ([`Contacts::creeping`]).
     CreepEnd(usize),
 }
 
@@ -433,7 +434,7 @@ impl Rules<'_> {
                 // the slip across that direction, as the law does): the law takes over. So
                 // the creep's friction never feeds in more than 2 mu N eps of power.
                 let (size, along) = top.creep_slip(i, phase.contacts.dir[i], y);
-                (self.creep_exit(y, eps) - size).min(along - 0.5 * size + 2.0 * eps)
+                (self.creep_exit(y, eps) - size).min(creep_turn(size, along, eps))
             }
             Switch::RollToSlip(i) => top.stick_margin(&forces(), i) + self.slack.get()[i],
             Switch::Jam(i) => {
@@ -463,6 +464,17 @@ impl Rules<'_> {
         let w = (y[4] * y[4] + y[5] * y[5] + y[6] * y[6]).sqrt();
         let omega = w.max((top.g / top.reach()).sqrt());
         (CREEP_LAG * top.friction.mu() * top.g / omega).max(CREEP_EXIT * eps)
+    }
+
+    /// Puts creeping part `i`'s slip back on its creep's direction by the dissipative impulse
+    /// of [`PlayTop::creep_slave`], the state onto the contacts `c`, the kinetic energy taken
+    /// booked as dissipated.
+    fn realign(&self, c: &Contacts, i: usize, y: &mut [f64; DIM]) {
+        let top = self.top;
+        let e0 = top.kinetic_energy(y);
+        top.creep_slave(i, c.dir[i], y);
+        top.project(c, y);
+        top.shed_energy(y, top.kinetic_energy(y) - e0);
     }
 
     /// Whether part `i` creeps in `c`: marked so, sliding, the only part touching, under a
@@ -508,12 +520,11 @@ impl Rules<'_> {
                     *s = (-margin).max(0.0) + round;
                 }
             }
-            if slid != 0 && phase.contacts.mask(n) == slid && slid.count_ones() == 1 {
-                phase.contacts.creeping = slid;
-            }
+            phase.contacts.creeping |= slid;
         }
         self.slack.set(slack);
-        // Only a part alone on the floor and sliding creeps.
+        // Only a part alone on the floor and sliding creeps (a part set sliding here
+        // included).
         let c = phase.contacts;
         phase.contacts.creeping = (0..n)
             .filter(|&i| self.creeps(&c, i))
@@ -525,13 +536,9 @@ impl Rules<'_> {
         // see the slip grow past the creep's range (the floor campaign's case 4311 of seed 1:
         // a creep went on to a slip of 0.23 m/s, its friction feeding in 5.9e-8 J).
         for i in (0..n).filter(|&i| phase.contacts.creeping & (1 << i) != 0) {
-            let dir = phase.contacts.dir[i];
-            let (size, along) = top.creep_slip(i, dir, y);
-            if along - 0.5 * size + 2.0 * eps <= 0.0 {
-                let e0 = top.kinetic_energy(y);
-                top.creep_slave(i, dir, y);
-                top.project(&phase.contacts, y);
-                top.shed_energy(y, top.kinetic_energy(y) - e0);
+            let (size, along) = top.creep_slip(i, phase.contacts.dir[i], y);
+            if creep_turn(size, along, eps) <= 0.0 {
+                self.realign(&phase.contacts, i, y);
             }
         }
         let k = top.kin(y);
@@ -697,15 +704,13 @@ impl Rules<'_> {
                 if size < 0.5 * self.creep_exit(y, self.tolerance(y)) {
                     // The slip turned away from the creep's direction: its component across
                     // it is damped at once, as the law would in a time of |slip| / (mu g),
-                    // and the part creeps on ([`PlayTop::creep_slave`]).
-                    let e0 = top.kinetic_energy(y);
-                    top.creep_slave(i, c.dir[i], y);
-                    top.shed_energy(y, top.kinetic_energy(y) - e0);
+                    // and the part creeps on.
+                    self.realign(&c, i, y);
                 } else {
                     // The slip has grown past the creep's range: the law's own direction.
                     c.creeping &= !(1 << i);
+                    top.project(&c, y);
                 }
-                top.project(&c, y);
                 Phase {
                     contacts: c,
                     hop: phase.hop,
@@ -805,23 +810,15 @@ impl Rules<'_> {
         }
         // Stiff (the explicit steps held by stability: a slip relaxing under friction, the
         // direction of a small slip turning): the rest of the phase by Radau IIA, the same
-        // observer going on.
-        // Radau5 holds its local error to 0.1 rtol^(2/3) (a global error of about rtol, by
-        // Hairer and Wanner's rule); at tight tolerances that is far looser than DOP853's
-        // rtol: at 1e-10, 2e-8, and the energy of the floor campaign's sliding tops drifted
-        // by 1e-8 of it. Its rtol is chosen so that the local error held is DOP853's,
-        // (10 rtol)^(3/2), but not below 1e-13, where the Newton iteration stalls.
-        let radau_rtol = (10.0 * integrator.rtol).powf(1.5).max(1e-13);
+        // observer going on, held to DOP853's local error (with Radau5's own rule, 2e-8 at
+        // rtol 1e-10, the energy of the floor campaign's sliding tops drifted by 1e-8).
         let radau = Radau5 {
-            rtol: radau_rtol,
-            atol: integrator.atol * radau_rtol / integrator.rtol,
-            h_init: None,
             h_max: integrator.h_max,
             max_steps: integrator
                 .max_steps
                 .saturating_sub(st.steps + st.rejected)
                 .max(1),
-            theta_jac: Radau5::default().theta_jac,
+            ..Radau5::holding_local(integrator.rtol, integrator.atol)
         };
         let system = PhaseSystem::<{ code::OTHER }, false> {
             top: self.top,
@@ -956,6 +953,25 @@ impl<const K: u8, const RES: bool> OdeSystem<DIM> for PhaseSystem<'_, K, RES> {
     }
 }
 
+/// How far a creeping part's slip (of length `size`, its component `along` the creep's
+/// direction) is from having turned 60 degrees away from that direction, with the stick
+/// speed `eps` as slack: at or below zero the creep's friction no longer opposes the slip
+/// (it would feed in more than `2 mu N eps` of power).
+fn creep_turn(size: f64, along: f64, eps: f64) -> f64 {
+    along - 0.5 * size + 2.0 * eps
+}
+
+/// The record of a contact event of part `i` at `t` that the engine's rules make at a
+/// switch (not a located event of the settings).
+fn part_event(name: &'static str, t: f64, i: usize) -> EventRecord {
+    EventRecord {
+        index: None,
+        name: name.into(),
+        t,
+        part: Some(i),
+    }
+}
+
 /// A switch keeps `E + dissipated`: it only turns energy into dissipated energy. The state
 /// it leaves is put on the floor from the located state a hair below it
 /// ([`PlayTop::touchdown_offset`]), which raises the potential energy by `m g offset`, and
@@ -1020,16 +1036,9 @@ pub(crate) fn drive(
         let eps = h.tolerance(&y);
         let slid = h.prepare(&mut phase, &mut y, eps);
         for i in (0..top.parts.n).filter(|&i| slid & (1 << i) != 0) {
-            for name in ["roll_to_slip", "creep"] {
-                if name == "creep" && phase.contacts.creeping & (1 << i) == 0 {
-                    continue;
-                }
-                info.events.push(EventRecord {
-                    index: None,
-                    name: name.into(),
-                    t,
-                    part: Some(i),
-                });
+            info.events.push(part_event("roll_to_slip", t, i));
+            if phase.contacts.creeping & (1 << i) != 0 {
+                info.events.push(part_event("creep", t, i));
             }
         }
         let ph = phase;
@@ -1130,7 +1139,7 @@ pub(crate) fn drive(
         no_energy_from_a_switch(top, &mut y, e_before);
         // Other parts that the switch lifted off, put down, stuck or set sliding at the same
         // instant (an impulse, or parts that stick jointly).
-        let after = h.row(&phase, &y).contacts.mode;
+        let after = phase.contacts.mode;
         let (own_name, own) = h.record(switch);
         n_switches += 1;
         if own_name == "creep_end" && phase.contacts.creeping != 0 {
@@ -1146,24 +1155,14 @@ pub(crate) fn drive(
         let creep_to = before_contacts.creeping & !phase.contacts.creeping;
         for i in (0..top.parts.n).filter(|&i| creep_to & (1 << i) != 0) {
             if after[i] == Mode::Slip && !matches!(switch, Switch::CreepEnd(_)) {
-                info.events.push(EventRecord {
-                    index: None,
-                    name: "creep_end".into(),
-                    t,
-                    part: Some(i),
-                });
+                info.events.push(part_event("creep_end", t, i));
             }
         }
         // Parts that start to creep at the switch (a part that cannot stick, or that starts
         // to slide from rest, alone on the floor).
         let creep_from = phase.contacts.creeping & !before_contacts.creeping;
         for i in (0..top.parts.n).filter(|&i| creep_from & (1 << i) != 0) {
-            info.events.push(EventRecord {
-                index: None,
-                name: "creep".into(),
-                t,
-                part: Some(i),
-            });
+            info.events.push(part_event("creep", t, i));
         }
         for i in 0..top.parts.n {
             let name = match (before[i], after[i]) {
@@ -1176,12 +1175,7 @@ pub(crate) fn drive(
                 (Mode::Roll, Mode::Slip) => "roll_to_slip",
             };
             if Some(i) != own {
-                info.events.push(EventRecord {
-                    index: None,
-                    name: name.into(),
-                    t,
-                    part: Some(i),
-                });
+                info.events.push(part_event(name, t, i));
             }
         }
         // The state after the switch at the same time (impacts make it jump).

@@ -21,6 +21,17 @@ impl PlayTop {
         [col(EX), col(EY), col(EZ)]
     }
 
+    /// Adds to `y` the velocity change an impulse `imp` with moment `torque` about G makes
+    /// (G's velocity, the body angular velocity), at the kinematics `k` of `y`.
+    pub(super) fn kick(&self, k: &Kin, y: &mut [f64; DIM], imp: [f64; 3], torque: [f64; 3]) {
+        let (dv, dw) = self.response(k, imp, torque);
+        let dwb = k.to_body(dw);
+        for a in 0..3 {
+            y[4 + a] += dwb[a];
+            y[10 + a] += dv[a];
+        }
+    }
+
     /// The impact of ring part `i` coming down flat (its plane within
     /// [`super::driver::FLAT_LEVEL`] of the floor's) with restitution `e`: the whole rim
     /// strikes at once. The orientation is put exactly flat and the tilting rate removed; G's
@@ -123,12 +134,7 @@ impl PlayTop {
         let mut compressed = false;
         let apply = |p: [f64; 3]| {
             let mut out = *y;
-            let (dv, dw) = self.response(&k, p, cross(arm, p));
-            let dwb = k.to_body(dw);
-            for ax in 0..3 {
-                out[4 + ax] += dwb[ax];
-                out[10 + ax] += dv[ax];
-            }
+            self.kick(&k, &mut out, p, cross(arm, p));
             let ke = self.kinetic_energy(y);
             let loss = ke - self.kinetic_energy(&out);
             if loss < -1e-12 * ke {
@@ -330,18 +336,15 @@ impl PlayTop {
                 }
             }
             let mut out = *y;
-            let (mut dv, mut dw) = (ZERO, ZERO);
+            let (mut total, mut moment) = (ZERO, ZERO);
             for &i in &parts {
-                let torque = add(cross(self.part(i).arm(k.e3), imp[i]), scale(drill[i], EZ));
-                let (a, b) = self.response(&k, imp[i], torque);
-                dv = add(dv, a);
-                dw = add(dw, b);
+                total = add(total, imp[i]);
+                moment = add(
+                    moment,
+                    add(cross(self.part(i).arm(k.e3), imp[i]), scale(drill[i], EZ)),
+                );
             }
-            let dwb = k.to_body(dw);
-            for ax in 0..3 {
-                out[4 + ax] += dwb[ax];
-                out[10 + ax] += dv[ax];
-            }
+            self.kick(&k, &mut out, total, moment);
             let k1 = self.kin(&out);
             let ok = parts.iter().zip(&combo).all(|(&i, &choice)| {
                 let pi = imp[i];

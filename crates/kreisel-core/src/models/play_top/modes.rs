@@ -263,14 +263,7 @@ impl PlayTop {
                 if !p.iter().all(|v| v.is_finite()) {
                     continue;
                 }
-                let (dv, dw) = self.response(&k, p, cross(arm, p));
-                for a in 0..3 {
-                    y[10 + a] += dv[a];
-                }
-                let dwb = k.to_body(dw);
-                for a in 0..3 {
-                    y[4 + a] += dwb[a];
-                }
+                self.kick(&k, y, p, cross(arm, p));
             }
             if moving <= 1e-13 * vs {
                 break;

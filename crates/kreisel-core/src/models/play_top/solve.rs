@@ -845,12 +845,7 @@ impl PlayTop {
         let arm = self.part(i).arm(k.e3);
         let mut torque = cross(arm, imp);
         torque[2] += self.friction.rbar() * pt[2];
-        let (dv, dw) = self.response(&k, imp, torque);
-        let dwb = k.to_body(dw);
-        for a in 0..3 {
-            y[10 + a] += dv[a];
-            y[4 + a] += dwb[a];
-        }
+        self.kick(&k, y, imp, torque);
     }
 
     /// A creeping part's slip `s` (the contact point's horizontal velocity and, under

@@ -18,6 +18,7 @@
 // Index loops: the systems' rows, columns and parts are addressed together by position.
 #![allow(clippy::needless_range_loop)]
 
+use super::friction::rim_coulomb;
 use super::parts::{Shape, MAX_PARTS};
 use super::{add, scale, solve3, Contacts, Friction, Mode, PlayTop, DIM};
 use crate::rotation::{cross, dot, Quat};
@@ -1342,9 +1343,10 @@ impl PlayTop {
     /// the normal force `m g` spread evenly over the rim of radius R (the moment the friction
     /// makes about G is taken by the spread, which is not resolved). The friction law acts at
     /// every point of the rim (Coulomb-Contensou with its own patch there): its force and
-    /// moment are the rim's mean over 64 points (closed forms for viscous friction: `F = -mu
-    /// N v`, `M_z = -mu N R^2 w_z`; for a rim spinning without sliding under Coulomb
-    /// friction, `M_z = -mu N R sign(w_z)`). A ring stuck flat (mode roll) rests.
+    /// moment are closed forms for viscous friction (`F = -mu N v`, `M_z = -mu N R^2 w_z`) and
+    /// point Coulomb friction ([`rim_coulomb`]), and under Coulomb-Contensou friction (smooth
+    /// wherever the rim spins) the rim's mean over 64 points. A ring stuck flat (mode roll)
+    /// rests.
     #[inline(never)]
     pub fn flat_dynamics(&self, c: &Contacts, y: &[f64; DIM], dy: &mut [f64; DIM]) -> Forces {
         let k = self.kin(y);
@@ -1372,7 +1374,13 @@ impl PlayTop {
                 fy = -mu * n * v[1];
                 mz = -mu * n * r * r * wz;
             }
-            _ => {
+            Friction::Coulomb { mu } => {
+                let (ft, m) = rim_coulomb(v, r * wz);
+                fx = mu * n * ft[0];
+                fy = mu * n * ft[1];
+                mz = mu * n * r * m;
+            }
+            Friction::CoulombContensou { .. } => {
                 const NQ: usize = 64;
                 let w = n / NQ as f64;
                 for j in 0..NQ {

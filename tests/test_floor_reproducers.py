@@ -300,3 +300,38 @@ def test_a_creep_that_starts_with_its_slip_turned_away_ends_when_the_slip_grows(
     assert creeps and all(any(0 <= t1 - t0 < 1e-3 for t1 in ends) for t0 in creeps)
     d = np.asarray(tr.dissipated)
     assert np.diff(d).min() >= -1e-12 * (tr.energy[0] + d[0])
+
+
+def test_a_creep_without_a_consistent_friction_lifts_the_part_off():
+    """Floor campaign, seed 1, case 6739: a spheroid spinning at 122 rad/s on its side stops
+    sticking (the force sticking needs leaves the cone by 3e-4 of it) where no creep is
+    consistent: as the friction shrinks from the needed force, the normal force falls faster,
+    and without friction it would pull. The full friction along the needed force instead made
+    the slip grow along the friction (feeding energy in); the creep was turned back 180 000
+    times in 1.5 ms until the chattering guard refused the run. Lifting off is the consistent
+    motion: the part's lowest point rises from the floor at once after it (its gap, from G's
+    height and the attitude here), and E + dissipated never rises."""
+    from kreisel.shapes import Spheroid
+
+    parts = [
+        Sphere(0.03173443291805962, z=-0.013552218440100908),
+        Spheroid(0.01317529302314435, 0.01121800758656355, z=-0.05352884436912399),
+    ]
+    top = PlayTop(1.1739962390452696, 0.00022333770911936711, 0.00044667541823873423,
+                  shape=parts, friction=Coulomb(0.9818219225958733))  # fmt: skip
+    st = top.state(theta=1.2882301749673237, phi=0.5040813837284948, theta_dot=0.079350684792521,
+                   phi_dot=0.6002363516387018, psi_dot=195.70862413247636, height=0.0)  # fmt: skip
+    tr = kreisel.simulate(top, st, 0.3)
+    assert tr.status == "completed" and tr.stats["steps"] < 5000, tr.stats
+    lifts = [e.t for e in tr.events if e.name == "lift_off" and 0.2408 < e.t < 0.2409]
+    assert len(lifts) == 1
+    after = tr.t > lifts[0]
+    z = tr.com[after, 2]
+    # The spheroid's lowest point: G's height + z u - sqrt(a^2 sin^2 + c^2 u^2) (its support
+    # function along the vertical, its equatorial and axial semi-axes).
+    sp = parts[1]
+    u = tr.u[after]
+    low = z + sp.z * u - np.sqrt(sp.equatorial**2 * (1 - u * u) + sp.axial**2 * u * u)
+    assert low[0] > 0 and np.all(np.diff(low[:3]) > 0), low[:3]
+    total = np.asarray(tr.energy) + np.asarray(tr.dissipated)
+    assert np.diff(total).max() <= 1e-9 * total[0]

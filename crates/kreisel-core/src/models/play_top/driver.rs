@@ -494,9 +494,10 @@ impl Rules<'_> {
 
     /// Readies a phase to start at `y`: the event functions' offsets, and the parts that stick
     /// where their friction has already left the cone (by more than rounding: the state a
-    /// switch leaves them in) slide from the start, creeping where alone. Returns those
-    /// parts (bit mask), for the record.
-    pub(crate) fn prepare(&self, phase: &mut Phase, y: &mut [f64; DIM], eps: f64) -> u8 {
+    /// switch leaves them in) slide from the start, creeping where alone; a creeping part
+    /// whose creep has no consistent friction lifts off. Returns the parts set sliding and
+    /// those lifted off (bit masks), for the record.
+    pub(crate) fn prepare(&self, phase: &mut Phase, y: &mut [f64; DIM], eps: f64) -> (u8, u8) {
         let top = self.top;
         let n = top.parts.n;
         *self.last.borrow_mut() = Solved::NONE;
@@ -535,7 +536,18 @@ impl Rules<'_> {
         // ([`Switch::CreepEnd`]): its event function would start on the far side and never
         // see the slip grow past the creep's range (the floor campaign's case 4311 of seed 1:
         // a creep went on to a slip of 0.23 m/s, its friction feeding in 5.9e-8 J).
-        for i in (0..n).filter(|&i| phase.contacts.creeping & (1 << i) != 0) {
+        // A creep whose friction has no consistent direction and whose normal force would
+        // pull without it lifts off instead ([`PlayTop::creep_friction`]).
+        let mut lifted = 0u8;
+        let creeping = phase.contacts.creeping;
+        for i in (0..n).filter(|&i| creeping & (1 << i) != 0) {
+            let mut dy = [0.0; DIM];
+            if top.dynamics(&phase.contacts, y, &mut dy).n[i] < 0.0 {
+                phase.contacts.mode[i] = Mode::Flight;
+                phase.contacts.creeping &= !(1 << i);
+                lifted |= 1 << i;
+                continue;
+            }
             let (size, along) = top.creep_slip(i, phase.contacts.dir[i], y);
             if creep_turn(size, along, eps) <= 0.0 {
                 self.realign(&phase.contacts, i, y);
@@ -548,7 +560,7 @@ impl Rules<'_> {
             *f = top.touchdown_offset() + (-gap).max(0.0);
         }
         self.floor.set(floor);
-        slid
+        (slid & !lifted, lifted)
     }
 
     pub(crate) fn apply(&self, sw: Switch, phase: &Phase, y: &mut [f64; DIM]) -> Phase {
@@ -719,12 +731,15 @@ impl Rules<'_> {
             Switch::RollToSlip(i) => {
                 let mut dy = [0.0; DIM];
                 c.slide_against(i, &top.dynamics(&c, y, &mut dy));
-                let f = top.dynamics(&c, y, &mut dy);
-                if f.n[i] < 0.0 {
-                    c.mode[i] = Mode::Flight;
-                } else if c.mask(n) == 1 << i {
+                if c.mask(n) == 1 << i {
                     // Alone on the floor, the part starts to slide from zero slip: it creeps.
                     c.creeping = 1 << i;
+                }
+                let f = top.dynamics(&c, y, &mut dy);
+                if f.n[i] < 0.0 {
+                    // (A creep with no consistent friction: see PlayTop::creep_friction.)
+                    c.mode[i] = Mode::Flight;
+                    c.creeping = 0;
                 }
                 top.project(&c, y);
                 Phase {
@@ -1034,12 +1049,15 @@ pub(crate) fn drive(
             stiff_stop: None,
         };
         let eps = h.tolerance(&y);
-        let slid = h.prepare(&mut phase, &mut y, eps);
+        let (slid, lifted) = h.prepare(&mut phase, &mut y, eps);
         for i in (0..top.parts.n).filter(|&i| slid & (1 << i) != 0) {
             info.events.push(part_event("roll_to_slip", t, i));
             if phase.contacts.creeping & (1 << i) != 0 {
                 info.events.push(part_event("creep", t, i));
             }
+        }
+        for i in (0..top.parts.n).filter(|&i| lifted & (1 << i) != 0) {
+            info.events.push(part_event("lift_off", t, i));
         }
         let ph = phase;
         // The contact switches of this phase (terminal), then the watched events.
@@ -1145,6 +1163,10 @@ pub(crate) fn drive(
         if own_name == "creep_end" && phase.contacts.creeping != 0 {
             // The creep's slip was only turned back onto its direction: no event.
             info.events.remove(record);
+        }
+        if own_name == "roll_to_slip" && own.is_some_and(|i| after[i] == Mode::Flight) {
+            // The part could not slide (its normal force would pull): it lifted off.
+            info.events[record].name = "lift_off".into();
         }
         if own_name == "slip_to_roll" && own.is_some_and(|i| after[i] == Mode::Slip) {
             // The part could not stick (its friction cannot hold it): it slides on, and no

@@ -986,7 +986,7 @@ fn run<const N: usize>(
         let eps = h.tolerance(&y);
         // The row after a switch is the switch's (the phase not yet prepared), as the driver's.
         let row_after = pending.as_ref().map(|_| h.row(&phase, &y));
-        if h.prepare(&mut phase, &mut y, eps) != 0 {
+        if h.prepare(&mut phase, &mut y, eps) != (0, 0) {
             return Err(unsupported("roll_to_slip", t));
         }
         let ph = phase;

@@ -774,6 +774,16 @@ impl PlayTop {
             tries += 1;
         }
         if f_hi > 0.0 || !f_hi.is_finite() {
+            if normal([0.0; 3]) <= 0.0 {
+                // No consistent creep: |F| - mu N(F) only grows as F shrinks from x (the
+                // normal force falls faster than the friction), and without friction the
+                // normal force would pull: lifting off is the consistent motion. No friction,
+                // so the normal force is that pull and the lift-off's event function sees it
+                // (the full friction along x instead would accelerate the slip along the
+                // friction, feeding energy in; a random floor run chattered on it, turning the
+                // creep back 180 000 times in 1.5 ms).
+                return ([0.0; 2], 0.0);
+            }
             return along(xs);
         }
         // Regula falsi (Illinois) on phi(beta), to the rounding of beta.

@@ -335,3 +335,67 @@ def test_a_creep_without_a_consistent_friction_lifts_the_part_off():
     assert low[0] > 0 and np.all(np.diff(low[:3]) > 0), low[:3]
     total = np.asarray(tr.energy) + np.asarray(tr.dissipated)
     assert np.diff(total).max() <= 1e-9 * total[0]
+
+
+def _rocking_cone():
+    """Floor campaign, seed 1, case 5982: a four-part cone on its side, Coulomb-Contensou
+    friction over a 15 µm patch."""
+    from kreisel.shapes import Torus as T
+
+    top = PlayTop(
+        0.14920254663051025, 3.0130982019201018e-05, 3.414961374389355e-05,
+        shape=[T(0.02238247425631983, 0.00699440315928502, z=-0.010340298361307058),
+               Sphere(0.0, z=-0.012460240229162301),
+               T(0.016990722931073083, 0.00023020947921903947, z=0.031884139315153284),
+               Sphere(0.02473528882592799, z=0.013932419902089384)],
+        friction=CoulombContensou(0.5774939808833554, 1.5432917724812607e-05),
+        restitution=0.03472306431064093, rolling_resistance=1.8870069454141105e-05,
+    )  # fmt: skip
+    st = top.state(theta=1.5707963267948966, phi=0.9579852348076031, psi=1.594043876643549,
+                   phi_dot=-0.16057114027969183, psi_dot=0.3659106836810419,
+                   vx=-0.0021590810002916627, height=0.0025489899126537414)  # fmt: skip
+    return top, st
+
+
+def test_a_drilling_limited_slide_under_coulomb_contensou_friction_takes_few_steps():
+    """The cone's ring rolls on its side while its friction cannot hold it without drilling:
+    it slides at a slip of rbar w_n |x| / (mu N) ~ 3e-7 m/s, which relaxes at mu N |W| /
+    (rbar w_n) (rbar 9 µm, w_n ~ 0.1 rad/s). DOP853 alone took steps of 0.24 µs there, 113 775
+    of them to t = 0.05 s; with the stiffness test such a slide goes on by Radau IIA. The
+    result agrees with a run at rtol 1e-12 (the integration's own convergence), and E +
+    dissipated never rises."""
+    top, st = _rocking_cone()
+    tr = kreisel.simulate(top, st, 0.05)
+    assert tr.stats["steps"] < 3000, tr.stats
+    fine = kreisel.simulate(top, st, 0.05, rtol=1e-12, atol=1e-14)
+    np.testing.assert_allclose(tr.omega[-1], fine.omega[-1], rtol=0, atol=1e-6)
+    np.testing.assert_allclose(tr.com[-1], fine.com[-1], rtol=0, atol=1e-9)
+    total = np.asarray(tr.energy) + np.asarray(tr.dissipated)
+    assert np.diff(total).max() <= 1e-9 * total[0]
+
+
+def test_a_slide_that_radau_cannot_follow_goes_on_by_dop853():
+    """Floor campaign, seed 1, case 793: a ring with a ball rolling upright on its ball under
+    Coulomb-Contensou friction and a drilling resistance; its slide tripped the stiffness
+    test, and Radau IIA's steps fell to 1e-16 s where the friction's direction turns at a slip
+    of rounding size (the run was refused). DOP853 goes on from Radau's last step: the run
+    completes, no part below the floor, E + dissipated never rising."""
+    top = PlayTop(
+        0.0087488581087846, 2.497273783612416e-07, 3.9180805877168874e-07,
+        shape=[Torus(0.00624978457773422, 0.0007957487597488167, z=-0.007092944852913632),
+               Sphere(0.005454745507617157, z=-0.0026779039890281863)],
+        friction=CoulombContensou(0.5779952308851292, 4.511194913924136e-05),
+        drilling_resistance=0.00032928754811943135,
+    )  # fmt: skip
+    st = PlayState(
+        quaternion=np.array([0.9953564674832421, 1.914950331759935e-09, 2.817601490812666e-11,
+                             -0.09625748095229628]),
+        omega=np.array([0.0, 0.0, -1.040402152061392]),
+        com=np.array([0.0, 0.0, 0.01405812371269426]),
+        com_velocity=np.array([-0.0010943406744135698, 0.0, -0.09674749090833266]),
+    )  # fmt: skip
+    tr = kreisel.simulate(top, st, 0.3, events=[kreisel.events.rest()])
+    assert tr.status in ("completed", "event")
+    assert part_gaps(top.shape, tr).min() > -1e-9
+    total = np.asarray(tr.energy) + np.asarray(tr.dissipated)
+    assert np.diff(total).max() <= 1e-9 * total[0]

@@ -496,8 +496,9 @@ impl Rules<'_> {
     /// together where their friction can hold them: the parts touching (at zero gap, not
     /// separating, whatever the modes the impact left) that slide slower
     /// than the creep's range ([`Self::creep_exit`]) are tried sticking jointly, their slips
-    /// stopped by an impulse that keeps every gap's rate (the kinetic energy it takes
-    /// counted as dissipated); kept where every touching part then pushes. Sliding on at
+    /// stopped by an impulse that keeps every gap's rate ([`PlayTop::stop_slips`]; the
+    /// kinetic energy it takes counted as dissipated); kept where the slips are then stopped
+    /// and every touching part pushes. Sliding on at
     /// such slips, each part takes the full friction along a slip the impacts left (of the
     /// order of a micrometre per second, in any direction), and those forces' moments tip the
     /// top onto one part and back (a random floor run: a cone on its side rocked between its
@@ -538,9 +539,19 @@ impl Rules<'_> {
         for (j, t) in target.iter_mut().enumerate().take(n) {
             *t = top.parts.shape[j].gap_rate(k.v[2], k.w, k.e3).max(0.0);
         }
-        let mut ys = top.impact(y, sticking, target).0;
+        // (Not bounded by the cone: the normal impulses are next to nothing, and the
+        // friction would stop such slips within the rocking's last microseconds.)
+        let Some(mut ys) = top.stop_slips(y, sticking, target) else {
+            return;
+        };
         top.project(&want, &mut ys);
-        if pushes(&top.dynamics(&want, &ys, &mut dy), &want) {
+        let eps = self.tolerance(&ys);
+        let k = top.kin(&ys);
+        let still = (0..n).all(|j| {
+            let vp = top.parts.shape[j].point_velocity(k.v, k.w, k.e3);
+            sticking & (1 << j) == 0 || top.slide_measure(vp, k.w[2]) <= eps
+        });
+        if still && pushes(&top.dynamics(&want, &ys, &mut dy), &want) {
             *y = ys;
             phase.contacts = want;
         }

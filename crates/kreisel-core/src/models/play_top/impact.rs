@@ -226,10 +226,26 @@ impl PlayTop {
         keep: u8,
     ) -> ([f64; DIM], u8) {
         let plastic = target.map(|t| t.min(0.0));
-        self.impact_search(y, set, target, keep, true)
-            .or_else(|| self.impact_search(y, set, plastic, keep, true))
-            .or_else(|| self.impact_search(y, set, plastic, keep, false))
+        self.impact_search(y, set, target, keep, true, true)
+            .or_else(|| self.impact_search(y, set, plastic, keep, true, true))
+            .or_else(|| self.impact_search(y, set, plastic, keep, false, true))
             .unwrap_or((*y, 0))
+    }
+
+    /// The impulses at the parts of `set` that stop their slips (and drilling, over a patch)
+    /// and give their gaps the rates `target`, whatever their size: not bounded by the
+    /// friction cone (a slip far below the stick speed's scale that the friction would stop
+    /// in a moment; [`super::driver`]'s end of a rocking). None where they would add kinetic
+    /// energy. The state after them (the energy they take counted as dissipated).
+    pub fn stop_slips(
+        &self,
+        y: &[f64; DIM],
+        set: u8,
+        target: [f64; MAX_PARTS],
+    ) -> Option<[f64; DIM]> {
+        self.impact_search(y, set, target, set, true, false)
+            .filter(|&(_, stuck)| stuck == set)
+            .map(|(out, _)| out)
     }
 
     /// [`Self::impact_keeping`] with one set of targets, with or without friction:
@@ -241,6 +257,7 @@ impl PlayTop {
         target: [f64; MAX_PARTS],
         keep: u8,
         friction: bool,
+        cone: bool,
     ) -> Option<([f64; DIM], u8)> {
         let n = self.parts.n;
         let k = self.kin(y);
@@ -351,9 +368,10 @@ impl PlayTop {
                 let after = self.part(i).point_velocity(k1.v, k1.w, k1.e3);
                 match choice {
                     0 => {
-                        pi[2] >= 0.0
-                            && self.cone_margin(pi[2] * (1.0 + 1e-12), [pi[0], pi[1]], drill[i])
-                                >= 0.0
+                        !cone
+                            || pi[2] >= 0.0
+                                && self.cone_margin(pi[2] * (1.0 + 1e-12), [pi[0], pi[1]], drill[i])
+                                    >= 0.0
                     }
                     1 => {
                         pi[2] >= 0.0 && vp[i][0] * after[0] + vp[i][1] * after[1] >= -tol_v * tol_v

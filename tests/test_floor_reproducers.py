@@ -427,3 +427,40 @@ def test_a_rocking_between_two_parts_ends_with_both_on_the_floor():
     assert n[:, 0].min() > 0 and n[:, 3].min() > 0
     total = np.asarray(tr.energy) + np.asarray(tr.dissipated)
     assert np.diff(total).max() <= 1e-9 * total[0]
+
+
+def test_a_frictionless_impact_that_turns_the_slip_is_taken():
+    """Floor campaign, seed 1, case 279: a four-part top spinning at ~100 rad/s strikes with
+    its ring at 2.2 m/s. No Coulomb impulse was consistent, and the fallback, the frictionless
+    plastic impact, was refused by the check that a sliding impulse does not reverse the slip
+    (without friction the normal impulse may turn the slip any way): the impact was not
+    taken, and the touchdown was found again 2e-14 s later, 195 000 times, until the run was
+    refused as stalled. It is taken now: the run completes, no part is ever below the floor
+    (the ring's lowest point from G's height and the attitude), and E + dissipated never
+    rises."""
+    from kreisel.shapes import Spheroid
+
+    parts = [
+        Sphere(0.012989180824959921, z=-0.014149592947659415),
+        Spheroid(0.00603433768226529, 0.016170230803048705, z=-0.0040287106335066),
+        Sphere(0.010237209626430111, z=-0.011609185596388837),
+        Torus(0.013398910080883269, 0.0023500980807018078, z=-0.024216625265517246),
+    ]
+    top = PlayTop(
+        0.017060533087756985, 1.11737078943525e-06, 7.310664068724777e-07, shape=parts,
+        friction=Coulomb(0.09350102683303452), restitution=0.8443389416494798,
+        drilling_resistance=4.432082503991082e-05,
+    )  # fmt: skip
+    st = PlayState(
+        quaternion=np.array([-0.7832887983622038, -0.0001091255778652705,
+                             -0.0003256216624139849, 0.6216578966139141]),
+        omega=np.array([0.0, -86.38935969406874, -53.8237659194027]),
+        com=np.array([-0.0954449274205542, 0.0, 0.03494937424478574]),
+        com_velocity=np.array([0.0, 0.0, -0.024688889841476044]),
+    )  # fmt: skip
+    tr = kreisel.simulate(top, st, 0.3)
+    assert tr.status == "completed" and tr.stats["steps"] < 5000, tr.stats
+    assert any(e.name == "touchdown" and e.part == "part3" for e in tr.events)
+    assert part_gaps([parts[0], parts[2], parts[3]], tr).min() > -1e-9
+    total = np.asarray(tr.energy) + np.asarray(tr.dissipated)
+    assert np.diff(total).max() <= 1e-9 * total[0]

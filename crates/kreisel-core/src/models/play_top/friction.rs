@@ -116,11 +116,12 @@ impl Friction {
 /// `t = min(|v|, |a|) / max(|v|, |a|)`, `E(t)` and `B(t) = (E - (1 - t^2) K) / t^2` (Bulirsch's
 /// `cel2`, no cancellation anywhere):
 /// `|v| >= |a|`: `G_F = 2 E(t) / pi`, `G_M = 2 t B(t) / pi`; `|v| < |a|`: the two swapped.
-/// (The rim's points slip at `|v - a sin phi|...`, `|s|^2 = v^2 + a^2 - 2 |v| a sin phi`; the
-/// means of `(|v| - a sin phi) / |s|` and `(a - |v| sin phi) / |s|` are Gauss-Landen
+/// (With v along x, the rim's point at angle `phi` slips at `s`, `|s|^2 = v^2 + a^2 -
+/// 2 |v| a sin phi`; the means of `(|v| - a sin phi) / |s|` and `(a - |v| sin phi) / |s|` are Gauss-Landen
 /// transforms of `K(k)` and `E(k)`, `k = 2 sqrt(|v| |a|) / (|v| + |a|)`.) Both are continuous
 /// (`2/pi` at `|v| = |a|`, where a point of the rim stops), and smooth elsewhere: the 64-point
-/// mean this replaces was not near `|v| = |a|`, and a slide there took steps as rtol.
+/// mean this replaces was not smooth near `|v| = |a|`, and a slide there took steps in
+/// proportion to 1/rtol.
 /// Returns the force per `mu N` (horizontal, space) and the moment per `mu N R`.
 pub fn rim_coulomb(v: [f64; 2], a: f64) -> ([f64; 2], f64) {
     let sv = v[0].hypot(v[1]);
@@ -279,7 +280,8 @@ mod tests {
     /// converges geometrically for a smooth periodic integrand; away from |v| = |a| the
     /// slip never vanishes on the rim), in both regimes and at t near 0 and near 1, in
     /// several directions of v and both senses of spin; and their common limit 2/pi at
-    /// |v| = |a|, where the mean converges slowly (error ~ log n / n). 1e-10: the rounding of the 2^16 terms' sum.
+    /// |v| = |a|, where the mean converges slowly (error ~ log n / n). 1e-10: the rounding of
+    /// the 2^16 terms' sum.
     #[test]
     fn the_rim_s_coulomb_friction_is_the_mean_over_its_points() {
         let mean = |v: [f64; 2], a: f64, n: usize| {

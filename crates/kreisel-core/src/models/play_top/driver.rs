@@ -299,7 +299,7 @@ impl<'a> Rules<'a> {
             let mut dy = [0.0; DIM];
             for _ in 0..3 {
                 let f = top.dynamics(&contacts, y, &mut dy);
-                if (0..n).all(|i| contacts.mode[i] == Mode::Flight || f.n[i] >= 0.0) {
+                if contacts.all_push(&f, n) {
                     break;
                 }
                 contacts = top.resolve(y, contacts.mask(n), &contacts, eps);
@@ -529,19 +529,13 @@ impl Rules<'_> {
         want.creeping = 0;
         let mut dy = [0.0; DIM];
         let f = top.demote(&mut want, y, tried, &mut dy);
-        let pushes =
-            |f: &Forces, w: &Contacts| (0..n).all(|j| w.mode[j] == Mode::Flight || f.n[j] >= 0.0);
         let sticking = tried & want.mask_of(Mode::Roll, n);
-        if sticking == 0 || !pushes(&f, &want) {
+        if sticking == 0 || !want.all_push(&f, n) {
             return;
-        }
-        let mut target = [0.0; 4];
-        for (j, t) in target.iter_mut().enumerate().take(n) {
-            *t = top.parts.shape[j].gap_rate(k.v[2], k.w, k.e3).max(0.0);
         }
         // (Not bounded by the cone: the normal impulses are next to nothing, and the
         // friction would stop such slips within the rocking's last microseconds.)
-        let Some(mut ys) = top.stop_slips(y, sticking, target) else {
+        let Some(mut ys) = top.stop_slips(y, sticking, top.kept_gap_rates(y)) else {
             return;
         };
         top.project(&want, &mut ys);
@@ -551,7 +545,7 @@ impl Rules<'_> {
             let vp = top.parts.shape[j].point_velocity(k.v, k.w, k.e3);
             sticking & (1 << j) == 0 || top.slide_measure(vp, k.w[2]) <= eps
         });
-        if still && pushes(&top.dynamics(&want, &ys, &mut dy), &want) {
+        if still && want.all_push(&top.dynamics(&want, &ys, &mut dy), n) {
             *y = ys;
             phase.contacts = want;
         }
@@ -776,7 +770,7 @@ impl Rules<'_> {
                         }
                     }
                     let f = top.demote(&mut want, y, tried, &mut dy);
-                    let push = (0..n).all(|j| want.mode[j] == Mode::Flight || f.n[j] >= 0.0);
+                    let push = want.all_push(&f, n);
                     let sticking = tried & want.mask_of(Mode::Roll, n);
                     if !push || sticking == 0 {
                         for j in 0..n {
@@ -792,11 +786,7 @@ impl Rules<'_> {
                     }
                     // The remaining (tolerance-sized) slips of the new sticking parts are
                     // stopped by an impulse that keeps every part's gap rate.
-                    let mut target = [0.0; 4];
-                    for (j, t) in target.iter_mut().enumerate().take(n) {
-                        *t = top.parts.shape[j].gap_rate(k.v[2], k.w, k.e3).max(0.0);
-                    }
-                    let (yi, _) = top.impact(y, sticking, target);
+                    let (yi, _) = top.impact(y, sticking, top.kept_gap_rates(y));
                     *y = yi;
                     c = want;
                 }

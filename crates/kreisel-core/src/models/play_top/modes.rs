@@ -70,6 +70,11 @@ impl Contacts {
         self.mode[i] = Mode::Slip;
     }
 
+    /// Whether every touching part pushes under the forces `f` (no normal force pulls).
+    pub fn all_push(&self, f: &Forces, n: usize) -> bool {
+        (0..n).all(|i| self.mode[i] == Mode::Flight || f.n[i] >= 0.0)
+    }
+
     /// The parts touching, as a bit mask (bit i: part i).
     pub fn mask(&self, n: usize) -> u8 {
         (0..n).fold(0, |acc, i| {
@@ -124,6 +129,17 @@ impl PlayTop {
             _ => 0.0,
         };
         (k.v[0] * k.v[0] + k.v[1] * k.v[1] + r * r * k.w[2] * k.w[2]).sqrt()
+    }
+
+    /// Each part's gap rate at `y`, at least zero: the normal targets of an impulse that
+    /// keeps every gap's rate (and stops a closing one).
+    pub fn kept_gap_rates(&self, y: &[f64; DIM]) -> [f64; MAX_PARTS] {
+        let k = self.kin(y);
+        let mut target = [0.0; MAX_PARTS];
+        for (j, t) in target.iter_mut().enumerate().take(self.parts.n) {
+            *t = self.parts.shape[j].gap_rate(k.v[2], k.w, k.e3).max(0.0);
+        }
+        target
     }
 
     /// Puts a state on the flat contact of ring part `i`: the figure axis exactly vertical
@@ -314,7 +330,7 @@ impl PlayTop {
                 }
             }
             let f = self.demote(&mut c, y, s, &mut dy);
-            let push = (0..n).all(|i| c.mode[i] == Mode::Flight || f.n[i] >= 0.0);
+            let push = c.all_push(&f, n);
             let open = (0..n).all(|i| {
                 cand & (1 << i) == 0
                     || c.mode[i] != Mode::Flight

@@ -536,6 +536,11 @@ def main(argv=None) -> int:
                 "rtol": args.rtol,
                 "counts": dict(collections.Counter(r["verdict"] for r in results.values())),
                 "failing": failing,
+                "refused": {
+                    str(i): r["details"][0][:300]
+                    for i, r in sorted(results.items())
+                    if r["verdict"] == "refused"
+                },
             },
             fh,
             indent=1,

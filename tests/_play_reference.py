@@ -217,11 +217,14 @@ def _cross(a, b):
     return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
 
 
-def slide_forces(top: Top, friction: str, mu: float, y):
+def slide_forces(top: Top, friction: str, mu: float, y, rbar: float = 0.0):
     """Contact analysis of a ``slide`` state y = (x, y, vx, vy, q(4), omega_body(3), D).
 
-    Returns (N, f, v_T, omega_space, e3, wdot0, wdot1): the contact force is N (ez + f),
-    the body angular acceleration is wdot0 + N wdot1.
+    Returns (N, f, v_T, omega_space, e3, wdot0, wdot1, mz): the contact force is N (ez + f),
+    the drilling torque N mz about ez, the body angular acceleration is wdot0 + N wdot1.
+    ``friction="contensou"`` is Coulomb-Contensou friction over a patch of effective radius
+    ``rbar`` (Leine and Glocker's ellipse): with ``d = sqrt(|v_T|^2 + rbar^2 w_n^2)``,
+    ``f = -mu v_T / d`` and ``mz = -mu rbar^2 w_n / d``.
     """
     m, big_a, big_c, s, rho, g = top.m, top.A, top.C, top.s, top.rho, top.g
     _, _, vx, vy, qw, qx, qy, qz, w1, w2, w3 = y[:11]
@@ -241,11 +244,16 @@ def slide_forces(top: Top, friction: str, mu: float, y):
         fx, fy = (-mu * vtx / sp, -mu * vty / sp) if sp > 0 else (0.0, 0.0)
     elif friction == "frictionless":
         fx, fy = 0.0, 0.0
+    elif friction == "contensou":
+        dd = math.sqrt(vtx * vtx + vty * vty + (rbar * om[2]) ** 2)
+        fx, fy = (-mu * vtx / dd, -mu * vty / dd) if dd > 0 else (0.0, 0.0)
     else:
         raise ValueError(friction)
+    mz = -mu * rbar * rbar * om[2] / dd if friction == "contensou" and dd > 0 else 0.0
     d = (fx, fy, 1.0)
-    # body angular acceleration: I wdot = -w x I w + R^T (a x F), F = N d
+    # body angular acceleration: I wdot = -w x I w + R^T (a x F + M ez), F = N d, M = N mz
     torque_s = _cross(a, d)
+    torque_s = (torque_s[0], torque_s[1], torque_s[2] + mz)
     tb = tuple(
         r[0][i] * torque_s[0] + r[1][i] * torque_s[1] + r[2][i] * torque_s[2] for i in range(3)
     )
@@ -265,13 +273,13 @@ def slide_forces(top: Top, friction: str, mu: float, y):
     # m z_G'' = N - m g with z_G'' = s u'' = s (u2_0 + N u2_1)
     n = (g + s * u2_0) / (1.0 / m - s * u2_1)
     return SimpleNamespace(
-        N=n, f=(fx, fy), vT=(vtx, vty), omega=om, e3=e3, vz=vz, wdot0=wdot0, wdot1=wdot1
+        N=n, f=(fx, fy), vT=(vtx, vty), omega=om, e3=e3, vz=vz, wdot0=wdot0, wdot1=wdot1, mz=mz
     )
 
 
-def slide_rhs(top: Top, friction: str, mu: float):
+def slide_rhs(top: Top, friction: str, mu: float, rbar: float = 0.0):
     def rhs(_t, y):
-        c = slide_forces(top, friction, mu, y)
+        c = slide_forces(top, friction, mu, y, rbar)
         n = c.N
         fx, fy = c.f
         w1, w2, w3 = y[8:11]
@@ -283,7 +291,7 @@ def slide_rhs(top: Top, friction: str, mu: float):
             n * fy / top.m,
             *_qdot(*y[4:8], w1, w2, w3),
             *wd,
-            -n * (fx * c.vT[0] + fy * c.vT[1]),
+            -n * (fx * c.vT[0] + fy * c.vT[1] + c.mz * c.omega[2]),
         ]
 
     return rhs

@@ -77,7 +77,8 @@ def test_a_part_that_never_touches_changes_nothing():
 
 def test_a_spin_about_the_vertical_stops_at_the_drilling_time():
     """Upright spin with no slip: M = -mu N Rbar, so w(t) = w0 - mu m g Rbar t / C and the
-    spin stops at t* = C w0 / (mu m g Rbar) (theory: several parts)."""
+    spin stops at t* = C w0 / (mu m g Rbar) (theory: several parts). The part rolls with its
+    patch drilling (no tangential force: no slip) until the drilling ends (``drill_end``)."""
     mu, R, w0, m, c = 0.3, 1e-3, 50.0, 0.02, 3e-6
     # the sphere's centre 5 mm above G: a stable standing ball
     top = PlayTop(m, 2.5e-6, c, shape=[Sphere(0.02, z=0.005)], friction=CoulombContensou(mu, R))
@@ -88,7 +89,7 @@ def test_a_spin_about_the_vertical_stops_at_the_drilling_time():
     tr = kreisel.simulate(top, st, 1.2 * t_star, t_eval=te, rtol=1e-10, atol=1e-13)
     np.testing.assert_allclose(tr.omega[:, 2], w0 - mu * m * 9.81 * rbar * te / c, rtol=1e-8,
                                atol=1e-9 * w0)  # fmt: skip
-    stops = [e.t for e in tr.events if e.name == "slip_to_roll"]
+    stops = [e.t for e in tr.events if e.name == "drill_end"]
     assert stops and abs(stops[0] - t_star) < 1e-6 * t_star, (stops, t_star)
 
 

@@ -74,8 +74,9 @@ def _methods_by_name() -> dict[str, MethodInfo]:
 class EventRecord:
     """An event that happened: its name, time (s) and index in the ``events`` list (-1 for
     the model's own events: a play top's contact switches ``lift_off``, ``touchdown``,
-    ``slip_to_roll``, ``roll_to_slip``, ``tangential_impact``, ``flat``, and ``creep`` and
-    ``creep_end`` around a part sliding at the edge of its friction cone).
+    ``slip_to_roll``, ``roll_to_slip``, ``tangential_impact``, ``flat``, ``creep`` and
+    ``creep_end`` around a part sliding at the edge of its friction cone, and ``drill_end``
+    where a part rolling with its Coulomb-Contensou patch drilling stops drilling).
 
     Examples
     --------

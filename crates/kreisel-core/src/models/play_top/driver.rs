@@ -37,7 +37,7 @@ const MAX_SWITCHES: usize = 200_000;
 /// a slip of `rbar w_n |x| / (mu N)`, relaxing at `mu N |W| / (rbar w_n)`: a random floor run
 /// (a cone rocking on its side, patch 15 µm) took DOP853 steps of 0.24 µs, 113 775 of them
 /// for 27 ms, and the continuation 191. T4 under Coulomb-Contensou friction trips the test
-/// only at rtol 1e-6 (at 1.95 s): the disk lies flat at 8.717913 s in 99 ms, against
+/// only at rtol 1e-6 (at 1.95 s): the disk lies flat at 8.717958 s in 103 ms, against
 /// 8.7179186 s in 92 ms by DOP853 alone (8.7179188 s converged); T3 never trips it.
 const STIFF_BOUND: f64 = 5.0;
 
@@ -88,6 +88,12 @@ pub enum Switch {
     /// on under its law; or the slip turns 60 degrees away from the creep's direction: it is
     /// put back on it ([`Contacts::creeping`]).
     CreepEnd(usize),
+    /// A part alone on the floor under Coulomb-Contensou friction stops slipping while its
+    /// patch still drills: it rolls on, drilling ([`Contacts::drilling`]), where the slip
+    /// its friction needs is below the stick speed; recorded as `slip_to_roll`.
+    SlipToDrill(usize),
+    /// A drilling part's drilling falls to the stick speed (`rbar |w_n|`): it sticks.
+    DrillEnd(usize),
 }
 
 /// The lag of a creeping part's slip behind the consistent direction at which the creep
@@ -114,6 +120,11 @@ pub const CREEP_STICK: f64 = 1e-3;
 /// the stick speed ([`Rules::tolerance`]): a creep ends above the speed it sticks at.
 pub const CREEP_EXIT: f64 = 10.0;
 
+/// The slip (as a multiple of the stick speed) that a drilling part's friction may need
+/// before the part slides on under its law ([`Contacts::drilling`]); it starts drilling only
+/// where the slip needed is at most the stick speed itself.
+pub const DRILL_EXIT: f64 = 10.0;
+
 /// The inclination's sine at which a ring part is taken to lie flat: the contact point's
 /// motion along the rim (and the precession rate) grows without bound as it comes down, as
 /// Euler's disk's does, and the run stops there with the event `flat`.
@@ -130,6 +141,8 @@ impl Switch {
             Switch::Jam(_) => "tangential_impact",
             Switch::Flat(_) => "flat",
             Switch::CreepEnd(_) => "creep_end",
+            Switch::SlipToDrill(_) => "slip_to_roll",
+            Switch::DrillEnd(_) => "drill_end",
         }
     }
     /// The part.
@@ -141,7 +154,9 @@ impl Switch {
             | Switch::RollToSlip(i)
             | Switch::Jam(i)
             | Switch::Flat(i)
-            | Switch::CreepEnd(i) => i,
+            | Switch::CreepEnd(i)
+            | Switch::SlipToDrill(i)
+            | Switch::DrillEnd(i) => i,
         }
     }
 }
@@ -412,6 +427,9 @@ impl Rules<'_> {
                     if self.creeps(&phase.contacts, i) {
                         out.push(Switch::CreepEnd(i));
                     }
+                    if self.may_drill(&phase.contacts, i) {
+                        out.push(Switch::SlipToDrill(i));
+                    }
                     if jam {
                         out.push(Switch::Jam(i));
                     }
@@ -419,6 +437,9 @@ impl Rules<'_> {
                 Mode::Roll => {
                     out.push(Switch::LiftOff(i));
                     out.push(Switch::RollToSlip(i));
+                    if phase.contacts.drilling & (1 << i) != 0 {
+                        out.push(Switch::DrillEnd(i));
+                    }
                 }
             }
         }
@@ -461,7 +482,20 @@ impl Rules<'_> {
                 let (size, along) = top.creep_slip(i, phase.contacts.dir[i], y);
                 (self.creep_exit(y, eps) - size).min(creep_turn(size, along, eps))
             }
+            // A drilling part: the slip its friction needs grows to DRILL_EXIT stick speeds
+            // (as a product, smooth where the force nears the cone).
+            Switch::RollToSlip(i) if phase.contacts.drilling & (1 << i) != 0 => {
+                let (x, frac) = top.drill_share(&forces(), i);
+                let k = top.kin(y);
+                DRILL_EXIT * eps * frac - top.friction.rbar() * k.w[2].abs() * x
+            }
             Switch::RollToSlip(i) => top.stick_margin(&forces(), i) + self.slack.get()[i],
+            Switch::SlipToDrill(i) => {
+                let k = top.kin(y);
+                let vp = top.parts.shape[i].point_velocity(k.v, k.w, k.e3);
+                vp[0].hypot(vp[1]) - eps
+            }
+            Switch::DrillEnd(_) => top.friction.rbar() * top.kin(y).w[2].abs() - eps,
             Switch::Jam(i) => {
                 // Sliding's own coefficient falls to the jam level, or the normal force it
                 // gives grows past a hundred weights (the coefficient heading for zero
@@ -573,6 +607,45 @@ impl Rules<'_> {
             && top.friction.can_stick()
     }
 
+    /// Whether part `i` of `c` may start drilling ([`Contacts::drilling`]): sliding, the only
+    /// part touching, not creeping, under Coulomb-Contensou friction.
+    fn may_drill(&self, c: &Contacts, i: usize) -> bool {
+        let top = self.top;
+        c.mode[i] == Mode::Slip
+            && !c.flat
+            && c.creeping & (1 << i) == 0
+            && c.mask(top.parts.n) == 1 << i
+            && top.friction.rbar() > 0.0
+            && top.friction.mu() > 0.0
+    }
+
+    /// Part `i` of `c` (sliding alone, [`Self::may_drill`]), its slip stopped, tried
+    /// drilling: taken (the state put on the contact, its slip zeroed) where it drills
+    /// faster than the stick speed `eps` (`rbar |w_n| > eps`), the part then pushes and the
+    /// slip its friction needs is at most `eps`.
+    fn try_drill(&self, c: &mut Contacts, i: usize, y: &mut [f64; DIM], eps: f64) -> bool {
+        let top = self.top;
+        if top.friction.rbar() * top.kin(y).w[2].abs() <= eps {
+            return false;
+        }
+        let mut want = *c;
+        want.mode[i] = Mode::Roll;
+        want.drilling = 1 << i;
+        want.creeping = 0;
+        let mut ys = *y;
+        top.project(&want, &mut ys);
+        let mut dy = [0.0; DIM];
+        let f = top.dynamics(&want, &ys, &mut dy);
+        let (x, frac) = top.drill_share(&f, i);
+        let wn = top.kin(&ys).w[2].abs();
+        let ok = f.n[i] > 0.0 && top.friction.rbar() * wn * x <= eps * frac;
+        if ok {
+            *c = want;
+            *y = ys;
+        }
+        ok
+    }
+
     pub(crate) fn record(&self, sw: Switch) -> (&'static str, Option<usize>) {
         (sw.name(), Some(sw.part()))
     }
@@ -580,22 +653,40 @@ impl Rules<'_> {
     /// Readies a phase to start at `y`: the event functions' offsets, and the parts that stick
     /// where their friction has already left the cone (by more than rounding: the state a
     /// switch leaves them in) slide from the start, creeping where alone; a creeping part
-    /// whose creep has no consistent friction lifts off. Returns the parts set sliding and
-    /// those lifted off (bit masks), for the record.
-    pub(crate) fn prepare(&self, phase: &mut Phase, y: &mut [f64; DIM], eps: f64) -> (u8, u8) {
+    /// whose creep has no consistent friction lifts off; a part alone that slides with its
+    /// slip stopped while it drills rolls on drilling ([`Contacts::drilling`]). Returns the
+    /// parts set sliding, those lifted off and those set drilling (bit masks), for the
+    /// record.
+    pub(crate) fn prepare(&self, phase: &mut Phase, y: &mut [f64; DIM], eps: f64) -> (u8, u8, u8) {
         let top = self.top;
         let n = top.parts.n;
         *self.last.borrow_mut() = Solved::NONE;
         phase.contacts.creep = eps;
         let mut slid = 0u8;
         let mut slack = [0.0; super::MAX_PARTS];
+        // Drilling is a state of a part alone on the floor, rolling.
+        let alone = phase.contacts.mask(n);
+        if alone.count_ones() != 1 || phase.contacts.mask_of(Mode::Roll, n) != alone {
+            phase.contacts.drilling = 0;
+        }
+        // A part alone that slides with its slip already stopped while it drills (the
+        // switch to drilling is located on the slip falling to the stick speed, and would
+        // not be seen from below it).
+        let mut drilled = 0u8;
+        if let Some(i) = (0..n).find(|&i| self.may_drill(&phase.contacts, i)) {
+            let k = top.kin(y);
+            let vp = top.parts.shape[i].point_velocity(k.v, k.w, k.e3);
+            if vp[0].hypot(vp[1]) <= eps && self.try_drill(&mut phase.contacts, i, y, eps) {
+                drilled = 1 << i;
+            }
+        }
         if !phase.contacts.flat && phase.contacts.mask_of(Mode::Roll, n) != 0 {
             let mut dy = [0.0; DIM];
             let f = top.dynamics(&phase.contacts, y, &mut dy);
             // Rounding of a cone margin: of the friction's own scale.
             let round = 1e-12 * top.friction.mu() * top.m * top.g.max(1e-300);
             for (i, s) in slack.iter_mut().enumerate().take(n) {
-                if phase.contacts.mode[i] != Mode::Roll {
+                if phase.contacts.mode[i] != Mode::Roll || phase.contacts.drilling & (1 << i) != 0 {
                     continue;
                 }
                 let margin = top.stick_margin(&f, i);
@@ -645,7 +736,7 @@ impl Rules<'_> {
             *f = top.touchdown_offset() + (-gap).max(0.0);
         }
         self.floor.set(floor);
-        (slid & !lifted, lifted)
+        (slid & !lifted, lifted, drilled)
     }
 
     pub(crate) fn apply(&self, sw: Switch, phase: &Phase, y: &mut [f64; DIM]) -> Phase {
@@ -790,6 +881,42 @@ impl Rules<'_> {
                     *y = yi;
                     c = want;
                 }
+                top.project(&c, y);
+                Phase {
+                    contacts: c,
+                    hop: phase.hop,
+                }
+            }
+            Switch::SlipToDrill(i) => {
+                let eps = self.tolerance(y);
+                if top.friction.rbar() * top.kin(y).w[2].abs() <= eps {
+                    // The drilling has stopped too: the part sticks.
+                    return self.apply(Switch::SlipToRoll(i), phase, y);
+                }
+                if !self.try_drill(&mut c, i, y, eps) {
+                    top.project(&c, y);
+                }
+                Phase {
+                    contacts: c,
+                    hop: phase.hop,
+                }
+            }
+            Switch::DrillEnd(i) => {
+                // The patch stops drilling (its remaining rate, at the stick speed, is
+                // stopped by the projection): the part sticks; where its friction cannot
+                // hold it, the phase's start sets it sliding.
+                c.drilling &= !(1 << i);
+                top.project(&c, y);
+                Phase {
+                    contacts: c,
+                    hop: phase.hop,
+                }
+            }
+            Switch::RollToSlip(i) if c.drilling & (1 << i) != 0 => {
+                // The slip the friction needs has grown past DRILL_EXIT stick speeds: the
+                // part slides on under its law, from zero slip, its patch drilling.
+                c.drilling = 0;
+                c.mode[i] = Mode::Slip;
                 top.project(&c, y);
                 Phase {
                     contacts: c,
@@ -1063,18 +1190,19 @@ impl<const K: u8, const RES: bool> OdeSystem<DIM> for PhaseSystem<'_, K, RES> {
     fn project(&self, y: &mut [f64; DIM]) {
         self.top.project(&self.contacts, y);
     }
-    /// For the implicit steps of a stiff phase: the columns of the velocities (the angular
-    /// velocity and G's velocity) by forward differences, the others zero. The stiffness is
-    /// friction's response to the velocities (a slip relaxing, the direction of a small
-    /// slip turning); the forces' dependence on the attitude and position acts on the
-    /// motion's own time scale, so the simplified Newton iteration converges without it
-    /// (the Jacobian sets only its rate, not the solution), at 7 right-hand sides instead
-    /// of 15.
+    /// For the implicit steps of a stiff phase: every column but the dissipated energy's
+    /// by forward differences (14 right-hand sides). The stiffness is friction's response to
+    /// the velocities, but the attitude's columns matter to the simplified Newton iteration
+    /// too: with the velocities' alone it contracted at only 0.25 to 0.6 per iteration where
+    /// the top turns by a tenth of a radian in a step (T3's ball, forced: 992 of 3 198
+    /// attempts rejected for it, against 168 of 1 669 with every column), and random floor
+    /// runs of Coulomb-Contensou friction stalled in slides of steps rejected one after
+    /// another (floor campaign, seed 1, cases 3983 and 7137).
     fn jacobian(&self, t: f64, y: &[f64; DIM], jac: &mut [[f64; DIM]; DIM]) -> bool {
         let mut f0 = [0.0; DIM];
         self.rhs(t, y, &mut f0);
         *jac = [[0.0; DIM]; DIM];
-        for j in [4, 5, 6, 10, 11, 12] {
+        for j in 0..13 {
             let d = (f64::EPSILON * y[j].abs().max(1e-5)).sqrt();
             let mut yj = *y;
             yj[j] += d;
@@ -1169,7 +1297,12 @@ pub(crate) fn drive(
             stiff_stop: None,
         };
         let eps = h.tolerance(&y);
-        let (slid, lifted) = h.prepare(&mut phase, &mut y, eps);
+        let (slid, lifted, drilled) = h.prepare(&mut phase, &mut y, eps);
+        if !first {
+            for i in (0..top.parts.n).filter(|&i| drilled & (1 << i) != 0) {
+                info.events.push(part_event("slip_to_roll", t, i));
+            }
+        }
         for i in (0..top.parts.n).filter(|&i| slid & (1 << i) != 0) {
             info.events.push(part_event("roll_to_slip", t, i));
             if phase.contacts.creeping & (1 << i) != 0 {

@@ -213,6 +213,19 @@ impl PlayTop {
         self.cone_margin(f.n[i], f.ft[i], f.mz[i])
     }
 
+    /// A drilling part's share of its cone that its tangential force takes,
+    /// `x = |F| / (mu N)`, and `sqrt(1 - x^2)` (0 at and beyond the cone's edge, or where the
+    /// part does not push): the slip its friction needs is `rbar |w_n| x / sqrt(1 - x^2)`
+    /// ([`super::Contacts::drilling`]).
+    pub fn drill_share(&self, f: &Forces, i: usize) -> (f64, f64) {
+        let cap = self.friction.mu() * f.n[i];
+        if cap <= 0.0 {
+            return (1.0, 0.0);
+        }
+        let x = f.ft[i][0].hypot(f.ft[i][1]) / cap;
+        (x, (1.0 - x * x).max(0.0).sqrt())
+    }
+
     /// The resistance torques of rolling, drilling and air (theory: play top), from the
     /// angular velocity `w` and the upward vertical `gamma` in any one frame (the torques are
     /// in that frame): the part proportional to N (per unit N) and the part that is not;

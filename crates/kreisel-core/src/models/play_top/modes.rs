@@ -36,6 +36,13 @@ pub struct Contacts {
     /// direction comes from the contact's consistency, so the steps follow the motion instead
     /// of a slip relaxing at a rate that grows as 1/|slip|.
     pub creeping: u8,
+    /// The parts rolling while their patch drills (bit i: part i; Coulomb-Contensou friction,
+    /// a part alone on the floor, in [`Mode::Roll`]): the slip has stopped but the drilling
+    /// has not, and the friction needs no more slip than the stick speed to carry the
+    /// tangential force (`rbar |w_n| x / sqrt(1 - x^2)`, `x = |F| / (mu N)`): the slip is held
+    /// at zero, the drilling torque is the law's on its ellipse (`PlayTop::drill_solve`),
+    /// instead of integrating a slip that relaxes at a rate growing as `1 / (rbar |w_n|)`.
+    pub drilling: u8,
 }
 
 impl Contacts {
@@ -46,6 +53,7 @@ impl Contacts {
         flat: false,
         creep: 0.0,
         creeping: 0,
+        drilling: 0,
     };
 
     /// The one mode that describes the whole top: slip if a part slides, else roll if a
@@ -300,6 +308,7 @@ impl PlayTop {
             flat: false,
             creep: prev.creep,
             creeping: 0,
+            drilling: 0,
         };
         let mut want = [Mode::Flight; MAX_PARTS];
         for i in 0..n {
@@ -403,7 +412,10 @@ impl PlayTop {
         // kinetic energy it removes is counted as dissipated.
         let before = self.kinetic_energy(y);
         let mut k = self.kin(y);
-        if stick.is_some() && self.friction.rbar() > 0.0 && k.w[2] != 0.0 {
+        if stick.is_some_and(|i| c.drilling & (1 << i) == 0)
+            && self.friction.rbar() > 0.0
+            && k.w[2] != 0.0
+        {
             // Sticking over a patch neither slides nor drills (D = 0): the drilling rate left
             // at the switch (below the tolerance over rbar) and its drift are removed.
             let wb = k.to_body([k.w[0], k.w[1], 0.0]);

@@ -986,8 +986,12 @@ fn run<const N: usize>(
         let eps = h.tolerance(&y);
         // The row after a switch is the switch's (the phase not yet prepared), as the driver's.
         let row_after = pending.as_ref().map(|_| h.row(&phase, &y));
-        if h.prepare(&mut phase, &mut y, eps) != (0, 0) {
-            return Err(unsupported("roll_to_slip", t));
+        match h.prepare(&mut phase, &mut y, eps) {
+            (0, 0, 0) => {}
+            // Drilling from the start (a top sleeping upright): the kernel is the phase's.
+            (0, 0, _) if first => {}
+            (0, 0, _) => return Err(unsupported("slip_to_roll", t)),
+            _ => return Err(unsupported("roll_to_slip", t)),
         }
         let ph = phase;
         let base = Kerneled::of(*top, &ph);
@@ -1129,6 +1133,8 @@ fn run<const N: usize>(
                 | Switch::RollToSlip(_)
                 | Switch::SlipToRoll(_)
                 | Switch::CreepEnd(_)
+                | Switch::SlipToDrill(_)
+                | Switch::DrillEnd(_)
         ) {
             return Err(unsupported(switch.name(), t));
         }

@@ -64,6 +64,9 @@ pub(crate) enum Kernel {
     OneStick(usize),
     /// Part i alone touches, creeping ([`Contacts::creeping`]).
     Creep(usize),
+    /// Part i alone touches, its slip stopped while its patch drills
+    /// ([`Contacts::drilling`]).
+    Drill(usize),
     /// A ring lies flat.
     Flat,
     /// The joint system of this many unknowns.
@@ -96,7 +99,7 @@ impl Kernel {
             Kernel::OneSlip(_) => code::ONE_SLIP,
             Kernel::OneStick(_) => code::ONE_STICK,
             Kernel::Creep(_) => code::CREEP,
-            Kernel::Flat | Kernel::System(_) => code::OTHER,
+            Kernel::Flat | Kernel::System(_) | Kernel::Drill(_) => code::OTHER,
         }
     }
 
@@ -133,11 +136,16 @@ impl Kernel {
                 },
                 _ => Kernel::OneSlip(first),
             },
+            (1, Mode::Roll) if c.drilling & (1 << first) != 0 => Kernel::Drill(first),
             (1, Mode::Roll) => Kernel::OneStick(first),
             _ => Kernel::System(unknowns),
         }
     }
 }
+
+/// A part's rows ([`PlayTop::stick_rows`]): each contact force component's row measure and
+/// the angular acceleration it gives.
+type Rows = ([[f64; 3]; 3], [[f64; 3]; 3]);
 
 /// The ratios of a top's inertia the kernels use, computed once per phase (divisions in a
 /// right-hand side's dependency chain cost more than their count says).
@@ -495,6 +503,8 @@ impl PlayTop {
             (Kernel::OneStick(i), true) => self.one_stick_rates::<true>(p, i, y, dy, out),
             (Kernel::Creep(i), false) => self.one_slip_rates::<false, true>(p, c, i, y, dy, out),
             (Kernel::Creep(i), true) => self.one_slip_rates::<true, true>(p, c, i, y, dy, out),
+            (Kernel::Drill(i), false) => self.one_drill_rates::<false>(p, i, y, dy, out),
+            (Kernel::Drill(i), true) => self.one_drill_rates::<true>(p, i, y, dy, out),
             (Kernel::Flat, _) => *out = self.flat_dynamics(c, y, dy),
             (Kernel::System(u), _) => match u {
                 0..=2 => self.dynamics_of::<2>(p, c, y, dy, out),
@@ -1014,24 +1024,37 @@ impl PlayTop {
         let (wd0, res_n, res_0) = self.free_terms::<RES>(p, &k);
         let rows = self.stick_rows(p, &k, i, res_n);
         let (x, mz) = self.stick_solve_with(p, &k, i, wd0, rows);
-        let dw = rows.1;
-        let mut wd = add(
+        let (vd, mut wd) = self.point_accelerations(p, wd0, x, rows.1);
+        if self.friction.rbar() > 0.0 {
+            wd = add(wd, scale(mz, p.inv_inertia(&k, EZ)));
+        }
+        out.n[i] = x[2];
+        out.ft[i] = [x[0], x[1]];
+        out.mz[i] = mz;
+        let p_res = self.resistance_power::<RES>(&k, x[2], res_n, res_0);
+        Self::write_rates(&k, vd, wd, p_res, dy);
+    }
+
+    /// The accelerations of G and of the rotation (space) that one part's contact force `x`
+    /// (x, y, normal) makes beside the free ones (`wd0`), with the angular responses `dw` of
+    /// its rows ([`Self::stick_rows`]).
+    #[inline(always)]
+    fn point_accelerations(
+        &self,
+        p: &Consts,
+        wd0: [f64; 3],
+        x: [f64; 3],
+        dw: [[f64; 3]; 3],
+    ) -> ([f64; 3], [f64; 3]) {
+        let wd = add(
             wd0,
             add(
                 scale(x[0], dw[0]),
                 add(scale(x[1], dw[1]), scale(x[2], dw[2])),
             ),
         );
-        if self.friction.rbar() > 0.0 {
-            wd = add(wd, scale(mz, p.inv_inertia(&k, EZ)));
-        }
         let inv_m = p.inv_m;
-        let vd = [inv_m * x[0], inv_m * x[1], inv_m * x[2] - self.g];
-        out.n[i] = x[2];
-        out.ft[i] = [x[0], x[1]];
-        out.mz[i] = mz;
-        let p_res = self.resistance_power::<RES>(&k, x[2], res_n, res_0);
-        Self::write_rates(&k, vd, wd, p_res, dy);
+        ([inv_m * x[0], inv_m * x[1], inv_m * x[2] - self.g], wd)
     }
 
     /// Each contact force component's row measure at part `i` (`arm x e_j`, j = x, y, z) and
@@ -1128,20 +1151,7 @@ impl PlayTop {
         (jw, dw): ([[f64; 3]; 3], [[f64; 3]; 3]),
     ) -> ([f64; 3], f64) {
         let k = *k;
-        let part = self.part(i);
-        let inv_m = p.inv_m;
-        let bias = part.slip_bias(k.w, k.e3);
-        let rhs = [
-            -(dot(jw[0], wd0) + bias[0]),
-            -(dot(jw[1], wd0) + bias[1]),
-            self.g - dot(jw[2], wd0) - part.gap_bias(k.w, k.e3),
-        ];
-        let mut a = [[0.0; 3]; 3];
-        for r in 0..3 {
-            for col in 0..3 {
-                a[r][col] = dot(jw[r], dw[col]) + if r == col { inv_m } else { 0.0 };
-            }
-        }
+        let (a, rhs) = self.point_system(p, &k, i, wd0, (jw, dw));
         let rb = self.friction.rbar();
         let (x, mz) = if rb > 0.0 {
             // The drilling torque's column and row: the rotation's response to ez, and the
@@ -1166,6 +1176,98 @@ impl PlayTop {
             (solve3(a, rhs), 0.0)
         };
         (x, mz)
+    }
+
+    /// The 3 x 3 system of the contact force (x, y, normal) that keeps part `i`'s material
+    /// point at rest on the floor (its acceleration zero), from the rows of
+    /// [`Self::stick_rows`]: the point's response per unit force, and what it must change by.
+    #[inline(always)]
+    fn point_system(
+        &self,
+        p: &Consts,
+        k: &Kin,
+        i: usize,
+        wd0: [f64; 3],
+        (jw, dw): ([[f64; 3]; 3], [[f64; 3]; 3]),
+    ) -> ([[f64; 3]; 3], [f64; 3]) {
+        let part = self.part(i);
+        let bias = part.slip_bias(k.w, k.e3);
+        let rhs = [
+            -(dot(jw[0], wd0) + bias[0]),
+            -(dot(jw[1], wd0) + bias[1]),
+            self.g - dot(jw[2], wd0) - part.gap_bias(k.w, k.e3),
+        ];
+        let mut a = [[0.0; 3]; 3];
+        for r in 0..3 {
+            for col in 0..3 {
+                a[r][col] = dot(jw[r], dw[col]) + if r == col { p.inv_m } else { 0.0 };
+            }
+        }
+        (a, rhs)
+    }
+
+    /// Part `i` alone on the floor, its slip stopped while its contact patch drills
+    /// (Coulomb-Contensou friction, [`Contacts::drilling`]): the contact force (x, y, normal)
+    /// that keeps its material point at rest, and the drilling torque per unit normal force,
+    /// `-sign(w_n) mu rbar sqrt(1 - |F|^2 / (mu N)^2)`: the law's friction lies on its
+    /// ellipse, the slip it takes to carry the tangential force `F` being
+    /// `rbar |w_n| x / sqrt(1 - x^2)`, `x = |F| / (mu N)` (neglected: the mode holds while that
+    /// is below the stick speed). The torque depends on the force it helps set: a fixed point
+    /// in `sqrt(1 - x^2)` (contracting: the torque moves `F` little where `x` is small, and
+    /// the mode ends before `x` nears 1), iterated to rounding. Returns the force, the torque
+    /// per unit normal force, and the rows (the normal one with that torque).
+    #[inline(always)]
+    pub(crate) fn drill_solve(
+        &self,
+        p: &Consts,
+        k: &Kin,
+        i: usize,
+        wd0: [f64; 3],
+        res_n: [f64; 3],
+    ) -> ([f64; 3], f64, Rows) {
+        let mu = self.friction.mu();
+        let rb = self.friction.rbar();
+        let torque = -k.w[2].signum() * mu * rb;
+        let mut frac = 1.0;
+        let mut m_n = torque;
+        let mut rows = self.stick_rows(p, k, i, add(res_n, [0.0, 0.0, m_n]));
+        let mut x = [0.0; 3];
+        for _ in 0..12 {
+            let (a, rhs) = self.point_system(p, k, i, wd0, rows);
+            x = solve3(a, rhs);
+            let ratio = (x[0] * x[0] + x[1] * x[1]) / (mu * mu * x[2] * x[2]).max(1e-300);
+            let next = (1.0 - ratio).max(0.0).sqrt();
+            let done = (next - frac).abs() <= 1e-15;
+            frac = next;
+            m_n = torque * frac;
+            rows = self.stick_rows(p, k, i, add(res_n, [0.0, 0.0, m_n]));
+            if done {
+                break;
+            }
+        }
+        (x, m_n, rows)
+    }
+
+    /// The kernel of one part `i` touching with its slip stopped while its patch drills
+    /// ([`Self::drill_solve`]): the drilling torque takes `-M w_n` of power.
+    #[inline(never)]
+    fn one_drill_rates<const RES: bool>(
+        &self,
+        p: &Consts,
+        i: usize,
+        y: &[f64; DIM],
+        dy: &mut [f64; DIM],
+        out: &mut Forces,
+    ) {
+        let k = self.kin(y);
+        let (wd0, res_n, res_0) = self.free_terms::<RES>(p, &k);
+        let (x, m_n, rows) = self.drill_solve(p, &k, i, wd0, res_n);
+        let (vd, wd) = self.point_accelerations(p, wd0, x, rows.1);
+        out.n[i] = x[2];
+        out.ft[i] = [x[0], x[1]];
+        out.mz[i] = m_n * x[2];
+        let p_res = self.resistance_power::<RES>(&k, x[2], res_n, res_0);
+        Self::write_rates(&k, vd, wd, p_res + m_n * x[2] * k.w[2], dy);
     }
 
     /// The contact forces' system of the parts in `c` at the kinematics `k`, with the free

@@ -237,6 +237,7 @@ def slide_forces(top: Top, friction: str, mu: float, y, rbar: float = 0.0):
     oxa = _cross(om, a)
     # v_T is horizontal in contact: vz + (omega x a)_z = s udot - s udot = 0 identically
     vtx, vty = vx + oxa[0], vy + oxa[1]
+    mz = 0.0
     if friction == "viscous":
         fx, fy = -mu * vtx, -mu * vty
     elif friction == "coulomb":
@@ -246,10 +247,11 @@ def slide_forces(top: Top, friction: str, mu: float, y, rbar: float = 0.0):
         fx, fy = 0.0, 0.0
     elif friction == "contensou":
         dd = math.sqrt(vtx * vtx + vty * vty + (rbar * om[2]) ** 2)
-        fx, fy = (-mu * vtx / dd, -mu * vty / dd) if dd > 0 else (0.0, 0.0)
+        fx, fy = 0.0, 0.0
+        if dd > 0:
+            fx, fy, mz = -mu * vtx / dd, -mu * vty / dd, -mu * rbar * rbar * om[2] / dd
     else:
         raise ValueError(friction)
-    mz = -mu * rbar * rbar * om[2] / dd if friction == "contensou" and dd > 0 else 0.0
     d = (fx, fy, 1.0)
     # body angular acceleration: I wdot = -w x I w + R^T (a x F + M ez), F = N d, M = N mz
     torque_s = _cross(a, d)

@@ -485,7 +485,8 @@ impl Rules<'_> {
             // A drilling part: the slip its friction needs grows to DRILL_EXIT stick speeds
             // (as a product, smooth where the force nears the cone).
             Switch::RollToSlip(i) if phase.contacts.drilling & (1 << i) != 0 => {
-                let (x, frac) = top.drill_share(&forces(), i);
+                let f = forces();
+                let (x, frac) = top.drill_share(f.ft[i], f.n[i]);
                 let k = top.kin(y);
                 DRILL_EXIT * eps * frac - top.friction.rbar() * k.w[2].abs() * x
             }
@@ -636,7 +637,7 @@ impl Rules<'_> {
         top.project(&want, &mut ys);
         let mut dy = [0.0; DIM];
         let f = top.dynamics(&want, &ys, &mut dy);
-        let (x, frac) = top.drill_share(&f, i);
+        let (x, frac) = top.drill_share(f.ft[i], f.n[i]);
         let wn = top.kin(&ys).w[2].abs();
         let ok = f.n[i] > 0.0 && top.friction.rbar() * wn * x <= eps * frac;
         if ok {

@@ -213,16 +213,17 @@ impl PlayTop {
         self.cone_margin(f.n[i], f.ft[i], f.mz[i])
     }
 
-    /// A drilling part's share of its cone that its tangential force takes,
-    /// `x = |F| / (mu N)`, and `sqrt(1 - x^2)` (0 at and beyond the cone's edge, or where the
-    /// part does not push): the slip its friction needs is `rbar |w_n| x / sqrt(1 - x^2)`
-    /// ([`super::Contacts::drilling`]).
-    pub fn drill_share(&self, f: &Forces, i: usize) -> (f64, f64) {
-        let cap = self.friction.mu() * f.n[i];
+    /// A drilling part's share of its cone that its tangential force `ft` takes under the
+    /// normal force `n`, `x = |F| / (mu N)`, and `sqrt(1 - x^2)` (0 at and beyond the cone's
+    /// edge, or where the part does not push): the slip its friction needs is
+    /// `rbar |w_n| x / sqrt(1 - x^2)` ([`super::Contacts::drilling`]).
+    #[inline(always)]
+    pub fn drill_share(&self, ft: [f64; 2], n: f64) -> (f64, f64) {
+        let cap = self.friction.mu() * n;
         if cap <= 0.0 {
             return (1.0, 0.0);
         }
-        let x = f.ft[i][0].hypot(f.ft[i][1]) / cap;
+        let x = ft[0].hypot(ft[1]) / cap;
         (x, (1.0 - x * x).max(0.0).sqrt())
     }
 

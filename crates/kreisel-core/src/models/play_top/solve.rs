@@ -499,12 +499,12 @@ impl PlayTop {
             }
             (Kernel::OneSlip(i), false) => self.one_slip_rates::<false, false>(p, c, i, y, dy, out),
             (Kernel::OneSlip(i), true) => self.one_slip_rates::<true, false>(p, c, i, y, dy, out),
-            (Kernel::OneStick(i), false) => self.one_stick_rates::<false>(p, i, y, dy, out),
-            (Kernel::OneStick(i), true) => self.one_stick_rates::<true>(p, i, y, dy, out),
+            (Kernel::OneStick(i), false) => self.one_stick_rates::<false, false>(p, i, y, dy, out),
+            (Kernel::OneStick(i), true) => self.one_stick_rates::<true, false>(p, i, y, dy, out),
             (Kernel::Creep(i), false) => self.one_slip_rates::<false, true>(p, c, i, y, dy, out),
             (Kernel::Creep(i), true) => self.one_slip_rates::<true, true>(p, c, i, y, dy, out),
-            (Kernel::Drill(i), false) => self.one_drill_rates::<false>(p, i, y, dy, out),
-            (Kernel::Drill(i), true) => self.one_drill_rates::<true>(p, i, y, dy, out),
+            (Kernel::Drill(i), false) => self.one_stick_rates::<false, true>(p, i, y, dy, out),
+            (Kernel::Drill(i), true) => self.one_stick_rates::<true, true>(p, i, y, dy, out),
             (Kernel::Flat, _) => *out = self.flat_dynamics(c, y, dy),
             (Kernel::System(u), _) => match u {
                 0..=2 => self.dynamics_of::<2>(p, c, y, dy, out),
@@ -539,7 +539,9 @@ impl PlayTop {
             (code::ONE_SLIP, Kernel::OneSlip(i)) => {
                 self.one_slip_rates::<RES, false>(p, c, i, y, dy, out)
             }
-            (code::ONE_STICK, Kernel::OneStick(i)) => self.one_stick_rates::<RES>(p, i, y, dy, out),
+            (code::ONE_STICK, Kernel::OneStick(i)) => {
+                self.one_stick_rates::<RES, false>(p, i, y, dy, out)
+            }
             (code::CREEP, Kernel::Creep(i)) => {
                 self.one_slip_rates::<RES, true>(p, c, i, y, dy, out)
             }
@@ -1008,11 +1010,13 @@ impl PlayTop {
         dy[13] = -n * (ft[0] * v_t[0] + ft[1] * v_t[1]);
     }
 
-    /// The kernel of one part `i` touching and sticking: its contact force (and drilling
-    /// torque under Coulomb-Contensou friction) from the contact point's acceleration being
-    /// zero; the 3 x 3 (4 x 4) system of the point's response solved directly.
+    /// The kernel of one part `i` touching with its contact point at rest: its contact force
+    /// and, under Coulomb-Contensou friction, its drilling torque. Sticking (`DRILL` false):
+    /// the torque keeps the drilling rate, the 3 x 3 (4 x 4) system of the point's response
+    /// solved directly. Drilling (`DRILL`, [`Contacts::drilling`]): the torque is the law's
+    /// ([`Self::drill_solve`]) and takes `-M w_n` of power.
     #[inline(always)]
-    fn one_stick_rates<const RES: bool>(
+    fn one_stick_rates<const RES: bool, const DRILL: bool>(
         &self,
         p: &Consts,
         i: usize,
@@ -1023,38 +1027,32 @@ impl PlayTop {
         let k = self.kin(y);
         let (wd0, res_n, res_0) = self.free_terms::<RES>(p, &k);
         let rows = self.stick_rows(p, &k, i, res_n);
-        let (x, mz) = self.stick_solve_with(p, &k, i, wd0, rows);
-        let (vd, mut wd) = self.point_accelerations(p, wd0, x, rows.1);
-        if self.friction.rbar() > 0.0 {
-            wd = add(wd, scale(mz, p.inv_inertia(&k, EZ)));
-        }
-        out.n[i] = x[2];
-        out.ft[i] = [x[0], x[1]];
-        out.mz[i] = mz;
-        let p_res = self.resistance_power::<RES>(&k, x[2], res_n, res_0);
-        Self::write_rates(&k, vd, wd, p_res, dy);
-    }
-
-    /// The accelerations of G and of the rotation (space) that one part's contact force `x`
-    /// (x, y, normal) makes beside the free ones (`wd0`), with the angular responses `dw` of
-    /// its rows ([`Self::stick_rows`]).
-    #[inline(always)]
-    fn point_accelerations(
-        &self,
-        p: &Consts,
-        wd0: [f64; 3],
-        x: [f64; 3],
-        dw: [[f64; 3]; 3],
-    ) -> ([f64; 3], [f64; 3]) {
-        let wd = add(
+        let (x, mz) = if DRILL {
+            self.drill_solve(p, &k, i, wd0, rows)
+        } else {
+            self.stick_solve_with(p, &k, i, wd0, rows)
+        };
+        let dw = rows.1;
+        let mut wd = add(
             wd0,
             add(
                 scale(x[0], dw[0]),
                 add(scale(x[1], dw[1]), scale(x[2], dw[2])),
             ),
         );
+        if self.friction.rbar() > 0.0 {
+            wd = add(wd, scale(mz, p.inv_inertia(&k, EZ)));
+        }
         let inv_m = p.inv_m;
-        ([inv_m * x[0], inv_m * x[1], inv_m * x[2] - self.g], wd)
+        let vd = [inv_m * x[0], inv_m * x[1], inv_m * x[2] - self.g];
+        out.n[i] = x[2];
+        out.ft[i] = [x[0], x[1]];
+        out.mz[i] = mz;
+        let mut p_res = self.resistance_power::<RES>(&k, x[2], res_n, res_0);
+        if DRILL {
+            p_res += mz * k.w[2];
+        }
+        Self::write_rates(&k, vd, wd, p_res, dy);
     }
 
     /// Each contact force component's row measure at part `i` (`arm x e_j`, j = x, y, z) and
@@ -1208,14 +1206,15 @@ impl PlayTop {
 
     /// Part `i` alone on the floor, its slip stopped while its contact patch drills
     /// (Coulomb-Contensou friction, [`Contacts::drilling`]): the contact force (x, y, normal)
-    /// that keeps its material point at rest, and the drilling torque per unit normal force,
-    /// `-sign(w_n) mu rbar sqrt(1 - |F|^2 / (mu N)^2)`: the law's friction lies on its
-    /// ellipse, the slip it takes to carry the tangential force `F` being
-    /// `rbar |w_n| x / sqrt(1 - x^2)`, `x = |F| / (mu N)` (neglected: the mode holds while that
-    /// is below the stick speed). The torque depends on the force it helps set: a fixed point
-    /// in `sqrt(1 - x^2)` (contracting: the torque moves `F` little where `x` is small, and
-    /// the mode ends before `x` nears 1), iterated to rounding. Returns the force, the torque
-    /// per unit normal force, and the rows (the normal one with that torque).
+    /// that keeps its material point at rest, and the drilling torque
+    /// `M = -sign(w_n) mu rbar N sqrt(1 - x^2)`, `x = |F| / (mu N)`: the law's friction lies on
+    /// its ellipse, the slip it takes to carry `F` being `rbar |w_n| x / sqrt(1 - x^2)`
+    /// (neglected: the mode holds while that is below the stick speed). From the rows of
+    /// [`Self::stick_rows`]: a torque `m N` about ez only adds `m (jw_r . J^-1 ez)` to the
+    /// normal force's column, so the 3 x 3 system is built once. The torque depends on the
+    /// force it helps set: a fixed point in `sqrt(1 - x^2)` (contracting: the torque moves `F`
+    /// little where `x` is small, and the mode ends before `x` nears 1), iterated to rounding.
+    /// Returns the force and the torque.
     #[inline(always)]
     pub(crate) fn drill_solve(
         &self,
@@ -1223,51 +1222,30 @@ impl PlayTop {
         k: &Kin,
         i: usize,
         wd0: [f64; 3],
-        res_n: [f64; 3],
-    ) -> ([f64; 3], f64, Rows) {
+        rows: Rows,
+    ) -> ([f64; 3], f64) {
         let mu = self.friction.mu();
-        let rb = self.friction.rbar();
-        let torque = -k.w[2].signum() * mu * rb;
-        let mut frac = 1.0;
-        let mut m_n = torque;
-        let mut rows = self.stick_rows(p, k, i, add(res_n, [0.0, 0.0, m_n]));
-        let mut x = [0.0; 3];
+        let torque = -k.w[2].signum() * mu * self.friction.rbar();
+        let (a0, rhs) = self.point_system(p, k, i, wd0, rows);
+        let dwm = p.inv_inertia(k, EZ);
+        let col: [f64; 3] = core::array::from_fn(|r| dot(rows.0[r], dwm));
+        let (mut frac, mut x) = (1.0, [0.0; 3]);
+        let mut m = torque;
         for _ in 0..12 {
-            let (a, rhs) = self.point_system(p, k, i, wd0, rows);
+            m = torque * frac;
+            let mut a = a0;
+            for r in 0..3 {
+                a[r][2] += m * col[r];
+            }
             x = solve3(a, rhs);
-            let ratio = (x[0] * x[0] + x[1] * x[1]) / (mu * mu * x[2] * x[2]).max(1e-300);
-            let next = (1.0 - ratio).max(0.0).sqrt();
+            let next = self.drill_share([x[0], x[1]], x[2]).1;
             let done = (next - frac).abs() <= 1e-15;
             frac = next;
-            m_n = torque * frac;
-            rows = self.stick_rows(p, k, i, add(res_n, [0.0, 0.0, m_n]));
             if done {
                 break;
             }
         }
-        (x, m_n, rows)
-    }
-
-    /// The kernel of one part `i` touching with its slip stopped while its patch drills
-    /// ([`Self::drill_solve`]): the drilling torque takes `-M w_n` of power.
-    #[inline(never)]
-    fn one_drill_rates<const RES: bool>(
-        &self,
-        p: &Consts,
-        i: usize,
-        y: &[f64; DIM],
-        dy: &mut [f64; DIM],
-        out: &mut Forces,
-    ) {
-        let k = self.kin(y);
-        let (wd0, res_n, res_0) = self.free_terms::<RES>(p, &k);
-        let (x, m_n, rows) = self.drill_solve(p, &k, i, wd0, res_n);
-        let (vd, wd) = self.point_accelerations(p, wd0, x, rows.1);
-        out.n[i] = x[2];
-        out.ft[i] = [x[0], x[1]];
-        out.mz[i] = m_n * x[2];
-        let p_res = self.resistance_power::<RES>(&k, x[2], res_n, res_0);
-        Self::write_rates(&k, vd, wd, p_res + m_n * x[2] * k.w[2], dy);
+        (x, m * x[2])
     }
 
     /// The contact forces' system of the parts in `c` at the kinematics `k`, with the free
@@ -1749,6 +1727,86 @@ mod tests {
             assert!(
                 naive_angle > 1e-3,
                 "{fr:?}: the naive direction is off by {naive_angle}"
+            );
+        }
+    }
+
+    /// Rolling while the patch drills ([`PlayTop::drill_solve`]): put on the
+    /// Coulomb-Contensou law at the slip the mode neglects,
+    /// `s = -rbar |w_n| x / sqrt(1 - x^2) F / |F|`, the law ([`PlayTop::friction_per_n`])
+    /// gives back the kernel's tangential force and drilling torque; and the contact point's
+    /// velocity has no rate (a central difference along the state's derivative). A light
+    /// disk on a ball (floor campaign, seed 1, case 8645) with mu small enough that the
+    /// tangential force takes half the cone, so that `sqrt(1 - x^2)` matters.
+    #[test]
+    fn a_drilling_part_s_forces_are_the_law_s_at_the_slip_it_needs() {
+        let fr = Friction::coulomb_contensou(0.0035, 4.205991025432986e-05).unwrap();
+        let top = PlayTop::new(
+            0.006886063548669754,
+            2.4174925518601564e-07,
+            4.834985103720313e-07,
+            0.016662910876893477,
+            0.022864911441109897,
+            9.81,
+            fr,
+            0.95,
+            0.0,
+            0.0,
+            0.0,
+        )
+        .unwrap();
+        let mut y: [f64; DIM] = [
+            -0.9692980465936911,
+            -0.000509827623923897,
+            0.002070895154365805,
+            0.2458795403011564,
+            3.4920532782692653,
+            -6.442688654484414,
+            -7.738443046193315e-05,
+            -0.00033088509766921457,
+            2.7066561290216688e-08,
+            0.03952767073447181,
+            -0.28966709895890447,
+            4.656477449975649e-05,
+            -0.0005208385606208744,
+            0.0,
+        ];
+        let mut c = Contacts::NONE;
+        c.mode[0] = Mode::Roll;
+        c.drilling = 1;
+        top.project(&c, &mut y);
+        let mut dy = [0.0; DIM];
+        let f = top.dynamics(&c, &y, &mut dy);
+        let (x, frac) = top.drill_share(f.ft[0], f.n[0]);
+        assert!(x > 0.2 && x < 0.9, "x = {x}");
+        let k = top.kin(&y);
+        let size = top.friction.rbar() * k.w[2].abs() * x / frac;
+        let ft = f.ft[0][0].hypot(f.ft[0][1]);
+        let slip = [-size * f.ft[0][0] / ft, -size * f.ft[0][1] / ft, 0.0];
+        let (law, m) = top.friction_per_n(slip, k.w[2], [0.0; 2], 0.0);
+        for j in 0..2 {
+            assert!(
+                (law[j] * f.n[0] - f.ft[0][j]).abs() <= 1e-12 * ft,
+                "{law:?} {:?}",
+                f.ft[0]
+            );
+        }
+        assert!(
+            (m * f.n[0] - f.mz[0]).abs() <= 1e-12 * f.mz[0].abs(),
+            "{m} {}",
+            f.mz[0]
+        );
+        let h = 1e-7;
+        let at = |s: f64| {
+            let ys: [f64; DIM] = core::array::from_fn(|j| y[j] + s * h * dy[j]);
+            let ks = top.kin(&ys);
+            top.parts.shape[0].point_velocity(ks.v, ks.w, ks.e3)
+        };
+        let (a, b) = (at(1.0), at(-1.0));
+        for j in 0..2 {
+            assert!(
+                ((a[j] - b[j]) / (2.0 * h)).abs() <= 1e-6 * top.g,
+                "{a:?} {b:?}"
             );
         }
     }

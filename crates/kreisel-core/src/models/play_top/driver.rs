@@ -467,7 +467,7 @@ impl Rules<'_> {
                 stuck.creeping = 0;
                 let mut ys = *y;
                 top.project(&stuck, &mut ys);
-                CREEP_STICK * top.friction.mu() * top.m * top.g - top.creep_margin(i, &ys)
+                CREEP_STICK * top.friction.mu() * top.m * top.g - top.creep_margin(&stuck, i, &ys)
             }
             Switch::SlipToRoll(i) => {
                 let k = top.kin(y);
@@ -479,7 +479,7 @@ impl Rules<'_> {
                 // from the direction the creep's friction opposes (the creep does not damp
                 // the slip across that direction, as the law does): the law takes over. So
                 // the creep's friction never feeds in more than 2 mu N eps of power.
-                let (size, along) = top.creep_slip(i, phase.contacts.dir[i], y);
+                let (size, along) = top.creep_slip(&phase.contacts, i, y);
                 (self.creep_exit(y, eps) - size).min(creep_turn(size, along, eps))
             }
             // A drilling part: the slip its friction needs grows to DRILL_EXIT stick speeds
@@ -592,20 +592,19 @@ impl Rules<'_> {
     fn realign(&self, c: &Contacts, i: usize, y: &mut [f64; DIM]) {
         let top = self.top;
         let e0 = top.kinetic_energy(y);
-        top.creep_slave(i, c.dir[i], y);
+        top.creep_slave(c, i, y);
         top.project(c, y);
         top.shed_energy(y, top.kinetic_energy(y) - e0);
     }
 
-    /// Whether part `i` creeps in `c`: marked so, sliding, the only part touching, under a
-    /// law that can stick ([`Contacts::creeping`]).
+    /// Whether part `i` creeps in `c`: marked so, sliding, not a ring lying flat, under a
+    /// law that can stick ([`Contacts::creeping`]); alone on the floor or beside other
+    /// parts ([`PlayTop::joint_creep_friction`]).
     pub(crate) fn creeps(&self, c: &Contacts, i: usize) -> bool {
-        let top = self.top;
         c.creeping & (1 << i) != 0
             && c.mode[i] == Mode::Slip
             && !c.flat
-            && c.mask(top.parts.n) == 1 << i
-            && top.friction.can_stick()
+            && self.top.friction.can_stick()
     }
 
     /// Whether part `i` of `c` may start drilling ([`Contacts::drilling`]): sliding, the only
@@ -701,12 +700,10 @@ impl Rules<'_> {
             phase.contacts.creeping |= slid;
         }
         self.slack.set(slack);
-        // Only a part alone on the floor and sliding creeps (a part set sliding here
-        // included).
+        // Only a sliding part creeps (a part set sliding here included), one at a time:
+        // the first.
         let c = phase.contacts;
-        phase.contacts.creeping = (0..n)
-            .filter(|&i| self.creeps(&c, i))
-            .fold(0, |acc, i| acc | (1 << i));
+        phase.contacts.creeping = (0..n).find(|&i| self.creeps(&c, i)).map_or(0, |i| 1 << i);
         // A creep that starts with its slip (of the order of the stick speed) turned more than
         // 60 degrees away from its direction (a failed stick's round-off slip, pointing
         // anywhere) has that slip put on the direction first, as at the creep's turn
@@ -725,7 +722,7 @@ impl Rules<'_> {
                 lifted |= 1 << i;
                 continue;
             }
-            let (size, along) = top.creep_slip(i, phase.contacts.dir[i], y);
+            let (size, along) = top.creep_slip(&phase.contacts, i, y);
             if creep_turn(size, along, eps) <= 0.0 {
                 self.realign(&phase.contacts, i, y);
             }
@@ -870,8 +867,9 @@ impl Rules<'_> {
                                 c.dir[j] = want.dir[j];
                             }
                         }
-                        // A part alone on the floor that cannot stick creeps.
-                        if c.mask(n) == 1 << i && c.mode[i] == Mode::Slip && push {
+                        // A part that cannot stick creeps (alone on the floor, or beside
+                        // the others: the joint system's consistent creep).
+                        if c.mode[i] == Mode::Slip && push {
                             c.creeping = 1 << i;
                         }
                         break;
@@ -925,7 +923,7 @@ impl Rules<'_> {
                 }
             }
             Switch::CreepEnd(i) => {
-                let (size, _) = top.creep_slip(i, c.dir[i], y);
+                let (size, _) = top.creep_slip(&c, i, y);
                 if size < 0.5 * self.creep_exit(y, self.tolerance(y)) {
                     // The slip turned away from the creep's direction: its component across
                     // it is damped at once, as the law would in a time of |slip| / (mu g),
@@ -944,10 +942,8 @@ impl Rules<'_> {
             Switch::RollToSlip(i) => {
                 let mut dy = [0.0; DIM];
                 c.slide_against(i, &top.dynamics(&c, y, &mut dy));
-                if c.mask(n) == 1 << i {
-                    // Alone on the floor, the part starts to slide from zero slip: it creeps.
-                    c.creeping = 1 << i;
-                }
+                // The part starts to slide from zero slip: it creeps.
+                c.creeping = 1 << i;
                 let f = top.dynamics(&c, y, &mut dy);
                 if f.n[i] < 0.0 {
                     // (A creep with no consistent friction: see PlayTop::creep_friction.)

@@ -437,6 +437,10 @@ enum Unknown {
     StickM(usize),
 }
 
+/// One sliding part's friction per unit normal force (part, tangential force, drilling
+/// torque) given instead of its law's ([`PlayTop::joint_creep_friction`]).
+type FrictionOver = Option<(usize, [f64; 2], f64)>;
+
 impl PlayTop {
     /// The space-frame kinematics of a state.
     #[inline]
@@ -567,7 +571,8 @@ impl PlayTop {
     /// [`Self::dynamics`] with systems of at most `U` unknowns. Not inlined: the joint
     /// systems (and their indeterminate splits) are large code, and inlined into every
     /// stage of the integrator beside the one-part kernels they crowded the instruction
-    /// cache of the common phases.
+    /// cache of the common phases. A part creeping beside others takes the joint system's
+    /// consistent creep ([`Self::joint_creep_friction`]).
     #[inline(never)]
     fn dynamics_of<const U: usize>(
         &self,
@@ -580,10 +585,43 @@ impl PlayTop {
         let k = self.kin(y);
         let (wd0, res_n, res_0) = self.free_terms_any(p, &k);
         let vd0 = [0.0, 0.0, -self.g];
+        let over = Self::joint_creeper(c, self.parts.n).map(|i| {
+            let (ft, mz) = self.joint_creep_friction(p, c, &k, i, res_n, vd0, wd0);
+            (i, ft, mz)
+        });
+        let (vd, wd, p_friction, n_total) =
+            self.joint_solve::<U>(c, &k, res_n, vd0, wd0, over, out);
+        let p = p_friction + self.resistance_power::<true>(&k, n_total, res_n, res_0);
+        Self::write_rates(&k, vd, wd, p, dy);
+    }
+
+    /// The creeping part of `c` (sliding, marked creeping, not a ring lying flat), if any.
+    pub(crate) fn joint_creeper(c: &Contacts, n: usize) -> Option<usize> {
+        if c.flat || c.creeping == 0 {
+            return None;
+        }
+        (0..n).find(|&i| c.creeping & (1 << i) != 0 && c.mode[i] == Mode::Slip)
+    }
+
+    /// The joint contact solve of the parts in `c` at the kinematics `k` with the free
+    /// accelerations `(vd0, wd0)`: the forces written to `out`; returns G's acceleration,
+    /// the angular acceleration (space), the friction's power and the total normal force.
+    /// `over` gives one sliding part's friction per unit normal force instead of its law's.
+    #[allow(clippy::too_many_arguments)]
+    fn joint_solve<const U: usize>(
+        &self,
+        c: &Contacts,
+        k: &Kin,
+        res_n: [f64; 3],
+        vd0: [f64; 3],
+        wd0: [f64; 3],
+        over: FrictionOver,
+        out: &mut Forces,
+    ) -> ([f64; 3], [f64; 3], f64, f64) {
         let mut sys = System::<U>::new();
         let mut what = [Unknown::StickN(0); U];
-        self.contact_system(c, &k, res_n, vd0, wd0, &mut sys, &mut what);
-        sys.responses(|f, t| self.response(&k, f, t));
+        self.contact_system(c, k, res_n, vd0, wd0, over, &mut sys, &mut what);
+        sys.responses(|f, t| self.response(k, f, t));
         sys.solve();
         if sys.m > 0 {
             self.most_margin(&mut sys, &what);
@@ -618,8 +656,73 @@ impl PlayTop {
                 Unknown::StickM(part) => out.mz[part] = x[j],
             }
         }
-        let p = p_friction + self.resistance_power::<true>(&k, n_total, res_n, res_0);
-        Self::write_rates(&k, vd, wd, p, dy);
+        (vd, wd, p_friction, n_total)
+    }
+
+    /// The friction per unit normal force of part `i` creeping beside the other parts of
+    /// `c` (theory: play top, "Creep: sliding at the edge of the cone"): the consistent
+    /// sliding at zero slip of [`Self::creep_friction`], with the slip's acceleration taken
+    /// from the joint system (the other parts sticking, sliding under their law or lying
+    /// free as `c` has them). It is affine in the force at the part: the joint solve with the
+    /// part sliding without friction gives the slip's free acceleration (its rate terms
+    /// added) and normal force, and with a unit force (and, over a patch, a unit drilling
+    /// torque per `rbar`) applied there the columns of the slip's response `W` and of the
+    /// normal force's.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn joint_creep_friction(
+        &self,
+        p: &Consts,
+        c: &Contacts,
+        k: &Kin,
+        i: usize,
+        res_n: [f64; 3],
+        vd0: [f64; 3],
+        wd0: [f64; 3],
+    ) -> ([f64; 2], f64) {
+        let rb = self.friction.rbar();
+        let part = self.part(i);
+        let arm = part.arm(k.e3);
+        let bias = part.slip_bias(k.w, k.e3);
+        let accel = |vd: [f64; 3], wd: [f64; 3]| {
+            let a = add(vd, cross(wd, arm));
+            [a[0], a[1], rb * wd[2]]
+        };
+        let free = Some((i, [0.0; 2], 0.0));
+        let mut f0 = Forces::default();
+        let (vd, wd, _, _) = self.joint_solve::<MAXU>(c, k, res_n, vd0, wd0, free, &mut f0);
+        let a0 = accel(vd, wd);
+        let mut w = [[0.0; 3]; 3];
+        let mut dn = [0.0; 3];
+        for e in 0..if rb > 0.0 { 3 } else { 2 } {
+            let (force, tz) = match e {
+                0 => (EX, 0.0),
+                1 => (EY, 0.0),
+                _ => (ZERO, rb),
+            };
+            let torque = add(cross(arm, force), scale(tz, EZ));
+            let vde = add(vd0, scale(1.0 / self.m, force));
+            let wde = add(wd0, p.inv_inertia(k, torque));
+            let mut fe = Forces::default();
+            let (vd, wd, _, _) = self.joint_solve::<MAXU>(c, k, res_n, vde, wde, free, &mut fe);
+            let ae = accel(vd, wd);
+            for r in 0..3 {
+                w[r][e] = ae[r] - a0[r];
+            }
+            dn[e] = fe.n[i] - f0.n[i];
+        }
+        if rb <= 0.0 {
+            w[2][2] = 1.0;
+        }
+        let size = w.iter().flatten().map(|v| v.abs()).fold(0.0, f64::max);
+        if size <= 1e-9 / self.m || size.is_nan() {
+            // The others hold the part's slip whatever its force (beside a part sticking
+            // over a patch): no direction to take from the slip; the full friction against
+            // `dir` (the force sticking needed where the part was set creeping).
+            return self.creep_along([0.0; 3], c.dir[i]);
+        }
+        // The slip's acceleration without friction, its rate terms included.
+        let wx = [-(a0[0] + bias[0]), -(a0[1] + bias[1]), -a0[2]];
+        self.consistent_creep(wx, w, f0.n[i], dn, c.dir[i])
     }
 
     /// The angular acceleration with no contact force (space frame): Euler's term
@@ -734,29 +837,54 @@ impl PlayTop {
         res_n: [f64; 3],
         dir: [f64; 2],
     ) -> ([f64; 2], f64) {
-        let mu = self.friction.mu();
-        let rb = self.friction.rbar();
         let rows = self.stick_rows(p, k, i, res_n);
         let (xs, ns) = {
             let (x, mz) = self.stick_solve_with(p, k, i, wd0, rows);
             (self.ellipse_force(([x[0], x[1]], mz)), x[2])
         };
-        let along = |f: [f64; 3]| -> ([f64; 2], f64) {
-            let size = (f[0] * f[0] + f[1] * f[1] + f[2] * f[2]).sqrt();
-            if size > 0.0 {
-                ([mu * f[0] / size, mu * f[1] / size], mu * rb * f[2] / size)
-            } else {
-                ([-mu * dir[0], -mu * dir[1]], 0.0)
-            }
-        };
         // The slip's response, and the normal force as F moves off x.
         let Some((w, gn)) = self.slip_response(p, k, rows) else {
-            return along(xs);
+            return self.creep_along(xs, dir);
         };
-        let normal = |f: [f64; 3]| {
-            ns - (gn[0] * (f[0] - xs[0]) + gn[1] * (f[1] - xs[1]) + gn[2] * (f[2] - xs[2])) / gn[3]
-        };
+        let dn = [-gn[0] / gn[3], -gn[1] / gn[3], -gn[2] / gn[3]];
         let wx = [dot(w[0], xs), dot(w[1], xs), dot(w[2], xs)];
+        self.consistent_creep(wx, w, ns - dot(dn, xs), dn, dir)
+    }
+
+    /// The full friction along `f` (ellipse coordinates) per unit normal force, or against
+    /// `dir` where `f` vanishes.
+    #[inline(always)]
+    fn creep_along(&self, f: [f64; 3], dir: [f64; 2]) -> ([f64; 2], f64) {
+        let (mu, rb) = (self.friction.mu(), self.friction.rbar());
+        let size = (f[0] * f[0] + f[1] * f[1] + f[2] * f[2]).sqrt();
+        if size > 0.0 {
+            ([mu * f[0] / size, mu * f[1] / size], mu * rb * f[2] / size)
+        } else {
+            ([-mu * dir[0], -mu * dir[1]], 0.0)
+        }
+    }
+
+    /// The consistent creep's friction per unit normal force ([`Self::creep_friction`]):
+    /// the slip accelerates at `w F - wx` under the force `F` (ellipse coordinates; `wx =
+    /// w x` with `x` the force sticking needs, where sticking is possible), the normal force
+    /// is `N(F) = n0 + dn . F`. Consistent sliding: `w F - wx = -beta F`, `beta >= 0`, so
+    /// `F(beta) = (w + beta I)^-1 wx` with `|F| = mu N(F)`. Where `w` is singular (a part
+    /// beside a sticking one: the slip along the line between the contacts is tied to the
+    /// other's, whatever the force) `F(0)` does not exist and `|F(beta)|` grows without
+    /// bound as `beta` falls to 0; the root is bracketed all the same.
+    #[inline(always)]
+    fn consistent_creep(
+        &self,
+        wx: [f64; 3],
+        w: [[f64; 3]; 3],
+        n0: f64,
+        dn: [f64; 3],
+        dir: [f64; 2],
+    ) -> ([f64; 2], f64) {
+        let mu = self.friction.mu();
+        let rb = self.friction.rbar();
+        let along = |f: [f64; 3]| self.creep_along(f, dir);
+        let normal = |f: [f64; 3]| n0 + dn[0] * f[0] + dn[1] * f[1] + dn[2] * f[2];
         let force = |beta: f64| {
             let mut m = w;
             for (a, row) in m.iter_mut().enumerate() {
@@ -765,10 +893,13 @@ impl PlayTop {
             solve3(m, wx)
         };
         let phi = |f: [f64; 3]| dot(f, f).sqrt() - mu * normal(f);
-        if ns <= 0.0 {
+        let xs = force(0.0);
+        let stick = xs.iter().all(|v| v.is_finite());
+        let ns = normal(xs);
+        if stick && ns <= 0.0 {
             return along(xs);
         }
-        if phi(xs) <= 0.0 {
+        if stick && phi(xs) <= 0.0 {
             // Inside the cone: the force sticking needs, which holds the slip where it is
             // (of the order of the stick speed) until the creep ends in sticking.
             return ([xs[0] / ns, xs[1] / ns], rb * xs[2] / ns);
@@ -776,7 +907,8 @@ impl PlayTop {
         // Bracket: beta large enough that |F| has fallen below mu N.
         let scale = (w[0][0] + w[1][1] + w[2][2]).abs().max(f64::MIN_POSITIVE);
         let (mut lo, mut hi) = (0.0f64, scale);
-        let (mut f_lo, mut f_hi) = (phi(xs), phi(force(hi)));
+        let f0 = if stick { phi(xs) } else { f64::INFINITY };
+        let (mut f_lo, mut f_hi) = (f0, phi(force(hi)));
         let mut tries = 0;
         while f_hi > 0.0 && tries < 60 {
             lo = hi;
@@ -796,7 +928,7 @@ impl PlayTop {
                 // creep back 180 000 times in 1.5 ms).
                 return ([0.0; 2], 0.0);
             }
-            return along(xs);
+            return along(if stick { xs } else { wx });
         }
         // Regula falsi (Illinois) on phi(beta), to the rounding of beta.
         let mut side = 0i8;
@@ -825,7 +957,7 @@ impl PlayTop {
         }
         let f = force(0.5 * (lo + hi));
         if normal(f) <= 0.0 {
-            return along(xs);
+            return along(if stick { xs } else { wx });
         }
         along(f)
     }
@@ -837,8 +969,18 @@ impl PlayTop {
     /// projection onto the direction in the metric of the contact's inverse Delassus
     /// operator, so the impulse only takes kinetic energy (`-|s - s'|^2 / 2` in that metric);
     /// all of it where the slip points against the direction. At the creep's located turns
-    /// ([`super::driver::Switch::CreepEnd`]).
-    pub(crate) fn creep_slave(&self, i: usize, dir: [f64; 2], y: &mut [f64; DIM]) {
+    /// ([`super::driver::Switch::CreepEnd`]). A part creeping beside others has its slip
+    /// stopped instead, by the impulse there that keeps every gap's rate (it takes kinetic
+    /// energy or is not applied, [`Self::stop_slips`]): the creep starts again from zero
+    /// slip, along its consistent direction.
+    pub(crate) fn creep_slave(&self, c: &Contacts, i: usize, y: &mut [f64; DIM]) {
+        if c.mask(self.parts.n) != 1 << i {
+            if let Some(out) = self.stop_slips(y, 1 << i, self.kept_gap_rates(y)) {
+                *y = out;
+            }
+            return;
+        }
+        let dir = c.dir[i];
         let (p, k, wd0, res_n) = self.creep_terms(y);
         let f = self.ellipse_force(self.creep_friction(&p, &k, i, wd0, res_n, dir));
         let size = dot(f, f).sqrt();
@@ -874,9 +1016,15 @@ impl PlayTop {
     /// A creeping part's slip `s` (the contact point's horizontal velocity and, under
     /// Coulomb-Contensou friction, `rbar` times the drilling rate) and its projection on the
     /// direction the creep's friction opposes, `s . d` with `d = -F / |F|`, at `y`.
-    pub(crate) fn creep_slip(&self, i: usize, dir: [f64; 2], y: &[f64; DIM]) -> (f64, f64) {
+    pub(crate) fn creep_slip(&self, c: &Contacts, i: usize, y: &[f64; DIM]) -> (f64, f64) {
         let (p, k, wd0, res_n) = self.creep_terms(y);
-        let f = self.ellipse_force(self.creep_friction(&p, &k, i, wd0, res_n, dir));
+        let f = if c.mask(self.parts.n) == 1 << i {
+            self.ellipse_force(self.creep_friction(&p, &k, i, wd0, res_n, c.dir[i]))
+        } else {
+            let mut dy = [0.0; DIM];
+            let f = self.dynamics(c, y, &mut dy);
+            self.ellipse_force((f.ft[i], f.mz[i]))
+        };
         let s = self.ellipse_slip(&k, i);
         let size = dot(f, f).sqrt();
         let along = if size > 0.0 { -dot(s, f) / size } else { 0.0 };
@@ -884,9 +1032,17 @@ impl PlayTop {
     }
 
     /// How far the friction part `i` would need to stick at `y` lies inside its cone
-    /// (ellipse) ([`Self::cone_margin`]), with only that part touching: negative while it
+    /// (ellipse) ([`Self::cone_margin`]), the other parts as `c` has them: negative while it
     /// creeps.
-    pub(crate) fn creep_margin(&self, i: usize, y: &[f64; DIM]) -> f64 {
+    pub(crate) fn creep_margin(&self, c: &Contacts, i: usize, y: &[f64; DIM]) -> f64 {
+        if c.mask(self.parts.n) != 1 << i {
+            let mut stuck = *c;
+            stuck.mode[i] = Mode::Roll;
+            stuck.creeping = 0;
+            stuck.drilling = 0;
+            let mut dy = [0.0; DIM];
+            return self.stick_margin(&self.dynamics(&stuck, y, &mut dy), i);
+        }
         let (p, k, wd0, res_n) = self.creep_terms(y);
         let (x, mz) = self.stick_solve(&p, &k, i, wd0, res_n);
         self.cone_margin(x[2], [x[0], x[1]], mz)
@@ -1259,6 +1415,7 @@ impl PlayTop {
         res_n: [f64; 3],
         vd0: [f64; 3],
         wd0: [f64; 3],
+        over: FrictionOver,
         sys: &mut System<U>,
         what: &mut [Unknown; U],
     ) {
@@ -1276,7 +1433,10 @@ impl PlayTop {
                 Mode::Flight => {}
                 Mode::Slip => {
                     let vp = p.point_velocity(k.v, k.w, k.e3);
-                    let (ft, mz) = self.friction_per_n(vp, k.w[2], c.dir[i], c.creep);
+                    let (ft, mz) = match over {
+                        Some((j, ft, mz)) if j == i => (ft, mz),
+                        _ => self.friction_per_n(vp, k.w[2], c.dir[i], c.creep),
+                    };
                     let f = [ft[0], ft[1], 1.0];
                     let t = add(add(cross(arm, f), scale(mz, EZ)), res_n);
                     let power = ft[0] * vp[0] + ft[1] * vp[1] + mz * k.w[2];
@@ -1671,7 +1831,7 @@ mod tests {
             top.project(&stuck, &mut y);
             let p = Consts::of(&top);
             assert!(
-                top.creep_margin(0, &y) < -1e-3,
+                top.creep_margin(&stuck, 0, &y) < -1e-3,
                 "the friction sticking needs is outside"
             );
             let slip_rate = |fr: ([f64; 2], f64)| {
@@ -1728,6 +1888,105 @@ mod tests {
                 naive_angle > 1e-3,
                 "{fr:?}: the naive direction is off by {naive_angle}"
             );
+        }
+    }
+
+    /// A part creeping beside another ([`PlayTop::joint_creep_friction`]): with the joint
+    /// system's consistent creep the creeping part's slip accelerates along minus its
+    /// friction, which lies on the cone (ellipse), while the other part sticks (its contact
+    /// point has no acceleration) or slides under its law. The rates are taken by central
+    /// differences of the contact points' velocities along the state's derivative (the
+    /// kinematics alone). A tippe-top-like body (ball and peg) tilted so that both touch.
+    #[test]
+    fn a_part_creeping_beside_another_slips_against_its_friction() {
+        use crate::rotation::quaternion_from_euler;
+        let mu = 0.05;
+        let laws = [
+            Friction::Coulomb { mu },
+            Friction::coulomb_contensou(mu, 2e-3).unwrap(),
+        ];
+        for fr in laws {
+            let parts = [
+                Shape::Sphere {
+                    radius: 0.01,
+                    z: 0.005,
+                },
+                Shape::Sphere {
+                    radius: 0.004,
+                    z: -0.02,
+                },
+            ];
+            let top = ball(fr, &parts);
+            // Both spheres touch where cos(theta) = (0.01 - 0.004) / (0.005 + 0.02); G lies
+            // between the two contacts, so both carry weight.
+            let q = quaternion_from_euler(0.3, 0.24_f64.acos(), -0.4);
+            // (Beside a part sticking over a patch, which stops the drilling too, the body
+            // cannot move horizontally: the creeping part's slip is held whatever its force.)
+            let others: &[Mode] = if fr.rbar() > 0.0 {
+                &[Mode::Slip]
+            } else {
+                &[Mode::Roll, Mode::Slip]
+            };
+            for &other in others {
+                let mut y = top.state(q, [4.0, -9.0, 35.0], 0.0, 0.0, None).unwrap();
+                // Part 1 at rest on the floor; part 0 at rest too where it sticks.
+                let mut put = Contacts::NONE;
+                put.mode = [Mode::Roll; MAX_PARTS];
+                put.mode[0] = other;
+                put.mode[2] = Mode::Flight;
+                put.mode[3] = Mode::Flight;
+                top.project(&put, &mut y);
+                let k = top.kin(&y);
+                for i in 0..2 {
+                    assert!(
+                        top.part(i).gap(k.zg, k.e3).abs() < 1e-12,
+                        "part {i} touches"
+                    );
+                }
+                let mut c = put;
+                c.mode[1] = Mode::Slip;
+                c.creeping = 1 << 1;
+                c.dir[1] = [1.0, 0.0];
+                assert!(
+                    top.creep_margin(&c, 1, &y) < -1e-4,
+                    "{fr:?}: the friction part 1 needs to stick is outside"
+                );
+                let mut dy = [0.0; DIM];
+                let out = top.dynamics(&c, &y, &mut dy);
+                let h = 1e-7;
+                let (mut yp, mut ym) = (y, y);
+                for j in 0..DIM {
+                    yp[j] += h * dy[j];
+                    ym[j] -= h * dy[j];
+                }
+                let rate = |i: usize| {
+                    let (sp, sm) = (
+                        top.ellipse_slip(&top.kin(&yp), i),
+                        top.ellipse_slip(&top.kin(&ym), i),
+                    );
+                    scale(0.5 / h, add(sp, scale(-1.0, sm)))
+                };
+                let a = rate(1);
+                let f = top.ellipse_force((out.ft[1], out.mz[1]));
+                let cos = -dot(a, f) / (dot(a, a).sqrt() * dot(f, f).sqrt());
+                let angle = cos.clamp(-1.0, 1.0).acos();
+                let full = dot(f, f).sqrt() / (mu * out.n[1]);
+                println!("{} beside {other:?}: {angle:.1e} rad", fr.name());
+                assert!(out.n[1] > 0.0 && out.n[0] > 0.0, "{fr:?}: both push");
+                assert!(
+                    angle < 1e-5,
+                    "{fr:?} {other:?}: the slip turns {angle} rad from -F"
+                );
+                assert!((full - 1.0).abs() < 1e-9, "{fr:?}: |F| / (mu N) = {full}");
+                if other == Mode::Roll {
+                    let a0 = rate(0);
+                    let g = 9.81;
+                    assert!(
+                        dot(a0, a0).sqrt() < 1e-6 * g,
+                        "{fr:?}: the sticking part's point accelerates at {a0:?}"
+                    );
+                }
+            }
         }
     }
 

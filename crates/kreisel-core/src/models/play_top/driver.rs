@@ -602,8 +602,7 @@ impl Rules<'_> {
     /// parts ([`PlayTop::joint_creep_friction`]).
     pub(crate) fn creeps(&self, c: &Contacts, i: usize) -> bool {
         c.creeping & (1 << i) != 0
-            && c.mode[i] == Mode::Slip
-            && !c.flat
+            && PlayTop::joint_creeper(c, self.top.parts.n) == Some(i)
             && self.top.friction.can_stick()
     }
 
@@ -652,11 +651,11 @@ impl Rules<'_> {
     /// friction feeding 1.7 mJ in). Returns the parts lifted off.
     fn lift_pullers(&self, c: &mut Contacts, y: &mut [f64; DIM]) -> u8 {
         let top = self.top;
+        let round = 1e-12 * top.m * top.g;
         let mut lifted = 0u8;
         while c.creeping != 0 {
             let mut dy = [0.0; DIM];
             let f = top.dynamics(c, y, &mut dy);
-            let round = 1e-12 * top.m * top.g;
             let pull = (0..top.parts.n)
                 .filter(|&j| c.mode[j] != Mode::Flight && f.n[j] < -round)
                 .min_by(|&a, &b| f.n[a].total_cmp(&f.n[b]));
@@ -667,6 +666,19 @@ impl Rules<'_> {
             top.project(c, y);
         }
         lifted
+    }
+
+    /// Part `i` of `c`, sliding beside other parts with its slip stopped, and the touching
+    /// parts whose slips are nearly stopped too (below the creep's range), tried sticking
+    /// together ([`Self::settle`]): the phase where part `i` then sticks, else None (`y`
+    /// unchanged). Alone on the floor: None.
+    fn settle_beside(&self, c: &Contacts, i: usize, hop: f64, y: &mut [f64; DIM]) -> Option<Phase> {
+        if c.mask(self.top.parts.n) == 1 << i {
+            return None;
+        }
+        let mut ph = Phase { contacts: *c, hop };
+        self.settle(&mut ph, y);
+        (ph.contacts.mode[i] == Mode::Roll).then_some(ph)
     }
 
     pub(crate) fn record(&self, sw: Switch) -> (&'static str, Option<usize>) {
@@ -897,14 +909,7 @@ impl Rules<'_> {
                         // their law's direction turns at rates a creep cannot follow), the
                         // parts are first tried sticking together ([`Self::settle`]).
                         if c.mode[i] == Mode::Slip && push {
-                            let mut ph = Phase {
-                                contacts: c,
-                                hop: phase.hop,
-                            };
-                            if c.mask(n) != 1 << i {
-                                self.settle(&mut ph, y);
-                            }
-                            if ph.contacts.mode[i] == Mode::Roll {
+                            if let Some(ph) = self.settle_beside(&c, i, phase.hop, y) {
                                 c = ph.contacts;
                             } else {
                                 c.creeping = 1 << i;
@@ -963,19 +968,12 @@ impl Rules<'_> {
                 }
             }
             Switch::CreepEnd(i) => {
-                let (size, _) = top.creep_slip(&c, i, y);
-                if c.mask(n) != 1 << i {
-                    // Beside others: the parts nearly stopped are tried sticking together
-                    // first (the others' law may turn the creep's slip at every step).
-                    let mut ph = Phase {
-                        contacts: c,
-                        hop: phase.hop,
-                    };
-                    self.settle(&mut ph, y);
-                    if ph.contacts.mode[i] == Mode::Roll {
-                        return ph;
-                    }
+                // Beside others: the parts nearly stopped are tried sticking together first
+                // (the others' law may turn the creep's slip at every step).
+                if let Some(ph) = self.settle_beside(&c, i, phase.hop, y) {
+                    return ph;
                 }
+                let (size, _) = top.creep_slip(&c, i, y);
                 if size < 0.5 * self.creep_exit(y, self.tolerance(y)) {
                     // The slip turned away from the creep's direction: its component across
                     // it is damped at once, as the law would in a time of |slip| / (mu g),

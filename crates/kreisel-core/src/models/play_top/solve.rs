@@ -586,7 +586,7 @@ impl PlayTop {
         let (wd0, res_n, res_0) = self.free_terms_any(p, &k);
         let vd0 = [0.0, 0.0, -self.g];
         let over = Self::joint_creeper(c, self.parts.n).map(|i| {
-            let (ft, mz) = self.joint_creep_friction(p, c, &k, i, res_n, vd0, wd0);
+            let (ft, mz) = self.joint_creep_friction::<U>(p, c, &k, i, res_n, vd0, wd0);
             (i, ft, mz)
         });
         let (vd, wd, p_friction, n_total) =
@@ -667,9 +667,10 @@ impl PlayTop {
     /// part sliding without friction gives the slip's free acceleration (its rate terms
     /// added) and normal force, and with a unit force (and, over a patch, a unit drilling
     /// torque per `rbar`) applied there the columns of the slip's response `W` and of the
-    /// normal force's.
+    /// normal force's. The part slides in every one of those solves, so they have the
+    /// unknowns of `c`'s own system (`U`).
     #[allow(clippy::too_many_arguments)]
-    pub(crate) fn joint_creep_friction(
+    pub(crate) fn joint_creep_friction<const U: usize>(
         &self,
         p: &Consts,
         c: &Contacts,
@@ -689,7 +690,7 @@ impl PlayTop {
         };
         let free = Some((i, [0.0; 2], 0.0));
         let mut f0 = Forces::default();
-        let (vd, wd, _, _) = self.joint_solve::<MAXU>(c, k, res_n, vd0, wd0, free, &mut f0);
+        let (vd, wd, _, _) = self.joint_solve::<U>(c, k, res_n, vd0, wd0, free, &mut f0);
         let a0 = accel(vd, wd);
         let mut w = [[0.0; 3]; 3];
         let mut dn = [0.0; 3];
@@ -703,7 +704,7 @@ impl PlayTop {
             let vde = add(vd0, scale(1.0 / self.m, force));
             let wde = add(wd0, p.inv_inertia(k, torque));
             let mut fe = Forces::default();
-            let (vd, wd, _, _) = self.joint_solve::<MAXU>(c, k, res_n, vde, wde, free, &mut fe);
+            let (vd, wd, _, _) = self.joint_solve::<U>(c, k, res_n, vde, wde, free, &mut fe);
             let ae = accel(vd, wd);
             for r in 0..3 {
                 w[r][e] = ae[r] - a0[r];
@@ -1017,15 +1018,15 @@ impl PlayTop {
     /// Coulomb-Contensou friction, `rbar` times the drilling rate) and its projection on the
     /// direction the creep's friction opposes, `s . d` with `d = -F / |F|`, at `y`.
     pub(crate) fn creep_slip(&self, c: &Contacts, i: usize, y: &[f64; DIM]) -> (f64, f64) {
-        let (p, k, wd0, res_n) = self.creep_terms(y);
         let f = if c.mask(self.parts.n) == 1 << i {
+            let (p, k, wd0, res_n) = self.creep_terms(y);
             self.ellipse_force(self.creep_friction(&p, &k, i, wd0, res_n, c.dir[i]))
         } else {
             let mut dy = [0.0; DIM];
             let f = self.dynamics(c, y, &mut dy);
             self.ellipse_force((f.ft[i], f.mz[i]))
         };
-        let s = self.ellipse_slip(&k, i);
+        let s = self.ellipse_slip(&self.kin(y), i);
         let size = dot(f, f).sqrt();
         let along = if size > 0.0 { -dot(s, f) / size } else { 0.0 };
         (dot(s, s).sqrt(), along)
@@ -1953,23 +1954,28 @@ mod tests {
                 );
                 let mut dy = [0.0; DIM];
                 let out = top.dynamics(&c, &y, &mut dy);
-                let h = 1e-7;
-                let (mut yp, mut ym) = (y, y);
-                for j in 0..DIM {
-                    yp[j] += h * dy[j];
-                    ym[j] -= h * dy[j];
-                }
-                let rate = |i: usize| {
+                // Part i's slip rate along the state's derivative dy, by central differences.
+                let rate_along = |dy: &[f64; DIM], i: usize| {
+                    let h = 1e-7;
+                    let (mut yp, mut ym) = (y, y);
+                    for j in 0..DIM {
+                        yp[j] += h * dy[j];
+                        ym[j] -= h * dy[j];
+                    }
                     let (sp, sm) = (
                         top.ellipse_slip(&top.kin(&yp), i),
                         top.ellipse_slip(&top.kin(&ym), i),
                     );
                     scale(0.5 / h, add(sp, scale(-1.0, sm)))
                 };
+                let rate = |i: usize| rate_along(&dy, i);
+                let angle_to = |a: [f64; 3], f: [f64; 3]| {
+                    let cos = -dot(a, f) / (dot(a, a).sqrt() * dot(f, f).sqrt());
+                    cos.clamp(-1.0, 1.0).acos()
+                };
                 let a = rate(1);
                 let f = top.ellipse_force((out.ft[1], out.mz[1]));
-                let cos = -dot(a, f) / (dot(a, a).sqrt() * dot(f, f).sqrt());
-                let angle = cos.clamp(-1.0, 1.0).acos();
+                let angle = angle_to(a, f);
                 let full = dot(f, f).sqrt() / (mu * out.n[1]);
                 println!("{} beside {other:?}: {angle:.1e} rad", fr.name());
                 assert!(out.n[1] > 0.0 && out.n[0] > 0.0, "{fr:?}: both push");
@@ -1978,6 +1984,33 @@ mod tests {
                     "{fr:?} {other:?}: the slip turns {angle} rad from -F"
                 );
                 assert!((full - 1.0).abs() < 1e-9, "{fr:?}: |F| / (mu N) = {full}");
+                // The naive direction, the full friction along the force the joint stick
+                // solve needs at part 1, is not consistent: the check tells them apart.
+                let mut stuck = c;
+                stuck.mode[1] = Mode::Roll;
+                stuck.creeping = 0;
+                let fs = top.dynamics(&stuck, &y, &mut [0.0; DIM]);
+                let g = top.ellipse_force((fs.ft[1], fs.mz[1]));
+                let size = dot(g, g).sqrt();
+                let naive = (
+                    [mu * g[0] / size, mu * g[1] / size],
+                    mu * top.friction.rbar() * g[2] / size,
+                );
+                let (p, k) = (Consts::of(&top), top.kin(&y));
+                let (wd0, res_n, _) = top.free_terms_any(&p, &k);
+                let mut fn_ = Forces::default();
+                let over = Some((1, naive.0, naive.1));
+                let vd0 = [0.0, 0.0, -top.g];
+                let (vd, wd, _, _) =
+                    top.joint_solve::<MAXU>(&c, &k, res_n, vd0, wd0, over, &mut fn_);
+                let mut dyn_ = [0.0; DIM];
+                PlayTop::write_rates(&k, vd, wd, 0.0, &mut dyn_);
+                let naive_angle = angle_to(rate_along(&dyn_, 1), top.ellipse_force(naive));
+                println!("  naive {naive_angle:.1e} rad");
+                assert!(
+                    naive_angle > 1e-3,
+                    "{fr:?} {other:?}: the naive direction is off by only {naive_angle}"
+                );
                 if other == Mode::Roll {
                     let a0 = rate(0);
                     let g = 9.81;

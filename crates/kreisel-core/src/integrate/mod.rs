@@ -97,6 +97,15 @@ pub trait OdeSystem<const N: usize> {
         [0.0; N]
     }
 
+    /// The components no right-hand side depends on (`true`: a quadrature carried along, a
+    /// position the equations do not see): their columns of the Jacobian vanish, and
+    /// [`Radau5`] factorises its Newton matrices without them, solving for them afterwards
+    /// by substitution. Default: none.
+    #[inline(always)]
+    fn passive(&self) -> [bool; N] {
+        [false; N]
+    }
+
     /// How many leading components the adaptive integrators' error estimate (and their
     /// starting step) measures: the others are carried along with the steps those choose
     /// (forward sensitivities riding on a trajectory). Default: all `N`.

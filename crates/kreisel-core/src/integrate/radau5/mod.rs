@@ -325,28 +325,63 @@ impl Scalar for C64 {
     }
 }
 
-/// An `N x N` LU factorisation with partial pivoting, in place (`L` unit lower, `U` upper).
+/// An `N x N` LU factorisation with partial pivoting, in place (`L` unit lower, `U` upper),
+/// of a matrix whose passive components (see [`OdeSystem::passive`]) have a diagonal
+/// block: the matrix is held with its rows and columns in the order `perm` (the `nc` coupled
+/// components first), only that leading `nc x nc` block is factorised, and the passive
+/// unknowns follow by substitution in their rows (`E_pc x_c + d x_p = b_p`).
 #[derive(Clone, Debug)]
 struct Lu<T, const N: usize> {
+    /// The matrix, rows and columns in the order `perm`.
     a: [[T; N]; N],
     piv: [usize; N],
+    perm: [usize; N],
+    nc: usize,
 }
 
 impl<T: Scalar, const N: usize> Lu<T, N> {
+    #[cfg(test)]
     fn new() -> Self {
+        Self::with_passive(&[false; N])
+    }
+
+    /// With the components marked `passive` ordered last.
+    fn with_passive(passive: &[bool; N]) -> Self {
+        let mut perm = [0; N];
+        let mut n = 0;
+        for want in [false, true] {
+            for (i, &p) in passive.iter().enumerate() {
+                if p == want {
+                    perm[n] = i;
+                    n += 1;
+                }
+            }
+        }
         Lu {
             a: [[T::default(); N]; N],
             piv: [0; N],
+            perm,
+            nc: passive.iter().filter(|&&p| !p).count(),
         }
     }
 
-    /// Factorises `self.a` in place; `false` if a pivot is zero or not finite (singular).
+    /// Sets entry `(i, j)` of the matrix (natural order) for every `i, j` from `f`.
+    #[inline(always)]
+    fn set(&mut self, f: impl Fn(usize, usize) -> T) {
+        for (r, &i) in self.perm.iter().enumerate() {
+            for (c, &j) in self.perm.iter().enumerate() {
+                self.a[r][c] = f(i, j);
+            }
+        }
+    }
+
+    /// Factorises the matrix in place; `false` if a pivot is zero or not finite (singular).
     fn factor(&mut self) -> bool {
-        let a = &mut self.a;
-        for k in 0..N {
+        let (a, nc) = (&mut self.a, self.nc);
+        for k in 0..nc {
             let mut p = k;
             let mut best = a[k][k].mag();
-            for i in k + 1..N {
+            for i in k + 1..nc {
                 let m = a[i][k].mag();
                 if m > best {
                     best = m;
@@ -360,41 +395,51 @@ impl<T: Scalar, const N: usize> Lu<T, N> {
             if p != k {
                 a.swap(p, k);
             }
-            let pivot = a[k][k];
-            for i in k + 1..N {
-                let l = a[i][k] / pivot;
-                a[i][k] = l;
-                for j in k + 1..N {
-                    let u = a[k][j];
-                    a[i][j] = a[i][j] - l * u;
+            let (done, rest) = a.split_at_mut(k + 1);
+            let (pivot, urow) = (done[k][k], &done[k][k + 1..nc]);
+            for row in &mut rest[..nc - k - 1] {
+                let l = row[k] / pivot;
+                row[k] = l;
+                for (x, &u) in row[k + 1..nc].iter_mut().zip(urow) {
+                    *x = *x - l * u;
                 }
             }
         }
-        true
+        (nc..N).all(|i| {
+            let d = a[i][i].mag();
+            d != 0.0 && d.is_finite()
+        })
     }
 
     /// Solves `A x = b` in place with the factors.
     fn solve(&self, b: &mut [T; N]) {
-        let a = &self.a;
-        for k in 0..N {
+        let (a, nc) = (&self.a, self.nc);
+        let mut x = [T::default(); N];
+        for (xr, &i) in x.iter_mut().zip(&self.perm) {
+            *xr = b[i];
+        }
+        for k in 0..nc {
             let p = self.piv[k];
             if p != k {
-                b.swap(p, k);
+                x.swap(p, k);
             }
         }
-        for i in 1..N {
-            let mut s = b[i];
-            for j in 0..i {
-                s = s - a[i][j] * b[j];
-            }
-            b[i] = s;
+        let dot = |row: &[T], x: &[T]| {
+            row.iter()
+                .zip(x)
+                .fold(T::default(), |s, (&r, &xj)| s + r * xj)
+        };
+        for i in 1..nc {
+            x[i] = x[i] - dot(&a[i][..i], &x[..i]);
         }
-        for i in (0..N).rev() {
-            let mut s = b[i];
-            for j in i + 1..N {
-                s = s - a[i][j] * b[j];
-            }
-            b[i] = s / a[i][i];
+        for i in (0..nc).rev() {
+            x[i] = (x[i] - dot(&a[i][i + 1..nc], &x[i + 1..nc])) / a[i][i];
+        }
+        for i in nc..N {
+            x[i] = (x[i] - dot(&a[i][..nc], &x[..nc])) / a[i][i];
+        }
+        for (xr, &i) in x.iter().zip(&self.perm) {
+            b[i] = *xr;
         }
     }
 }
@@ -624,9 +669,16 @@ impl Radau5 {
         stats.jacobians += 1;
         if !sys.jacobian(t, y, jac) {
             let floor = sys.magnitude_floor();
+            let passive = sys.passive();
             let mut yj = *y;
             let mut fj = [0.0; N];
             for j in 0..N {
+                if passive[j] {
+                    for row in jac.iter_mut() {
+                        row[j] = 0.0;
+                    }
+                    continue;
+                }
                 let d = (f64::EPSILON * y[j].abs().max(floor[j]).max(1e-5)).sqrt();
                 yj[j] = y[j] + d;
                 let d = yj[j] - y[j]; // the increment actually taken
@@ -636,7 +688,7 @@ impl Radau5 {
                 }
                 yj[j] = y[j];
             }
-            stats.rhs_evals += N as u64;
+            stats.rhs_evals += passive.iter().filter(|&&p| !p).count() as u64;
         }
         jac.iter().all(all_finite)
     }
@@ -699,8 +751,9 @@ impl Radau5 {
         };
 
         let mut jac = [[0.0; N]; N];
-        let mut e1 = Lu::<f64, N>::new();
-        let mut e2 = Lu::<C64, N>::new();
+        let passive = sys.passive();
+        let mut e1 = Lu::<f64, N>::with_passive(&passive);
+        let mut e2 = Lu::<C64, N>::with_passive(&passive);
         let mut dense = Radau5Dense::<N>::new();
         let mut z = [[0.0; N]; 3];
         let mut w = [[0.0; N]; 3];
@@ -761,14 +814,14 @@ impl Radau5 {
             }
             if h_step != lu_h {
                 let (g, al, be) = (tab.gamma / h_step, tab.alpha / h_step, tab.beta / h_step);
-                for i in 0..N {
-                    for j in 0..N {
-                        e1.a[i][j] = -jac[i][j];
-                        e2.a[i][j] = C64::new(-jac[i][j], 0.0);
+                e1.set(|i, j| if i == j { g - jac[i][j] } else { -jac[i][j] });
+                e2.set(|i, j| {
+                    if i == j {
+                        C64::new(al - jac[i][j], be)
+                    } else {
+                        C64::new(-jac[i][j], 0.0)
                     }
-                    e1.a[i][i] += g;
-                    e2.a[i][i] = e2.a[i][i] + C64::new(al, be);
-                }
+                });
                 stats.lu_decomps += 1;
                 let ok = e1.factor() & e2.factor();
                 if !ok {

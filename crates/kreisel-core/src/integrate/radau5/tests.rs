@@ -754,3 +754,76 @@ fn radau5_vs_dop853_on_a_stiff_14_dim_top() {
         dev(&yr2)
     );
 }
+
+/// The stiff 2x2 system with two quadratures riding on it, `q0' = y0 + y1` and `q1' = y0`,
+/// which no right-hand side reads. Declared passive, Radau IIA factorises the coupled 2x2
+/// block only and solves for the quadratures by substitution; undeclared, the full 4x4
+/// matrices. Both against the exact integrals of `stiff_exact`.
+struct WithQuadratures {
+    passive: bool,
+}
+
+impl OdeSystem<4> for WithQuadratures {
+    fn rhs(&self, _t: f64, y: &[f64; 4], dy: &mut [f64; 4]) {
+        // The passive components sit between and after the coupled ones (indices 1 and 3), so
+        // that the reordering of the matrices is exercised.
+        let (u0, u1) = (y[0], y[2]);
+        dy[0] = STIFF_A[0][0] * u0 + STIFF_A[0][1] * u1;
+        dy[2] = STIFF_A[1][0] * u0 + STIFF_A[1][1] * u1;
+        dy[1] = u0 + u1;
+        dy[3] = u0;
+    }
+    fn passive(&self) -> [bool; 4] {
+        [false, self.passive, false, self.passive]
+    }
+}
+
+#[test]
+fn radau5_passive_components_are_solved_by_substitution() {
+    // Exact: y0 = 2a - b, y1 = a - b (a = e^{L1 t}, b = e^{L2 t}); the integrals from 0 of
+    // a and b are (a - 1)/L1 and (b - 1)/L2.
+    let exact = |t: f64| {
+        let ia = ((L1 * t).exp() - 1.0) / L1;
+        let ib = ((L2 * t).exp() - 1.0) / L2;
+        let e = stiff_exact(t);
+        [e[0], 3.0 * ia - 2.0 * ib, e[1], 2.0 * ia - ib]
+    };
+    let (rtol, atol) = (1e-8, 1e-12);
+    let t_end = 3.0;
+    let mut runs = Vec::new();
+    for passive in [true, false] {
+        let (_, y, st) = Radau5::new(rtol, atol)
+            .integrate(
+                &WithQuadratures { passive },
+                0.0,
+                [1.0, 0.0, 0.0, 0.0],
+                t_end,
+                &mut NullObserver,
+            )
+            .unwrap();
+        let ex = exact(t_end);
+        let err = (0..4)
+            .map(|i| (y[i] - ex[i]).abs() / ex[i].abs().max(1e-2))
+            .fold(0.0, f64::max);
+        println!(
+            "passive {passive}: {} steps, {} f, rel err {err:.2e}",
+            st.steps, st.rhs_evals
+        );
+        assert!(
+            err < 100.0 * rtol,
+            "passive {passive}: {y:?} against {ex:?}"
+        );
+        runs.push((y, st));
+    }
+    // The same steps: the substitution is the elimination the full factorisation does
+    // (with diagonal pivots), up to rounding; the Jacobian skips the passive columns.
+    let ((yp, sp), (yf, sf)) = (&runs[0], &runs[1]);
+    assert_eq!(sp.steps, sf.steps);
+    for i in 0..4 {
+        assert!(
+            (yp[i] - yf[i]).abs() <= 1e-12 * yf[i].abs().max(1e-2),
+            "{yp:?} {yf:?}"
+        );
+    }
+    assert_eq!(sf.rhs_evals - sp.rhs_evals, 2 * sf.jacobians);
+}

@@ -1093,19 +1093,32 @@ impl Rules<'_> {
                 .max(1),
             ..Radau5::holding_local(integrator.rtol, integrator.atol)
         };
-        let system = PhaseSystem::<{ code::OTHER }, false> {
-            top: self.top,
-            contacts: phase.contacts,
-            kernel,
-            consts: Consts::of(self.top),
-            last: &self.last,
-        };
         let mut tracked = Tracked {
             obs: Resumed(obs),
             last: (t1, y1),
             steps: 0,
         };
-        match radau.integrate(&system, t1, y1, t_end, &mut tracked) {
+        // One integrator per sliding kernel, each with only that kernel inlined, as for DOP853.
+        macro_rules! run {
+            ($k:expr, $res:expr) => {
+                radau.integrate(
+                    &self.system::<{ $k }, { $res }>(phase, kernel),
+                    t1,
+                    y1,
+                    t_end,
+                    &mut tracked,
+                )
+            };
+        }
+        let stiff = match (kernel.code(), self.top.has_resistance()) {
+            (code::BALL, _) => run!(code::BALL, false),
+            (code::ONE_SLIP, false) => run!(code::ONE_SLIP, false),
+            (code::ONE_SLIP, true) => run!(code::ONE_SLIP, true),
+            (code::CREEP, false) => run!(code::CREEP, false),
+            (code::CREEP, true) => run!(code::CREEP, true),
+            _ => run!(code::OTHER, false),
+        };
+        match stiff {
             Ok((t2, y2, more)) => Ok((t2, y2, st.plus(&more))),
             Err(IntegrateError::StepSizeTooSmall { .. } | IntegrateError::NonFinite { .. }) => {
                 // Radau IIA's Newton iteration fails where the right-hand side is not smooth
@@ -1140,6 +1153,21 @@ impl Rules<'_> {
         }
     }
 
+    /// The equations of `phase` with the kernel `K` inlined ([`PlayTop::rates_as`]).
+    fn system<const K: u8, const RES: bool>(
+        &self,
+        phase: &Phase,
+        kernel: Kernel,
+    ) -> PhaseSystem<'_, K, RES> {
+        PhaseSystem {
+            top: self.top,
+            contacts: phase.contacts,
+            kernel,
+            consts: Consts::of(self.top),
+            last: &self.last,
+        }
+    }
+
     /// A phase by DOP853, with one integrator per common kernel, each with only that kernel
     /// inlined ([`PlayTop::rates_as`]).
     #[allow(clippy::too_many_arguments)]
@@ -1156,13 +1184,7 @@ impl Rules<'_> {
         macro_rules! run {
             ($k:expr, $res:expr) => {
                 integrator.integrate(
-                    &PhaseSystem::<{ $k }, { $res }> {
-                        top: self.top,
-                        contacts: phase.contacts,
-                        kernel,
-                        consts: Consts::of(self.top),
-                        last: &self.last,
-                    },
+                    &self.system::<{ $k }, { $res }>(phase, kernel),
                     t,
                     y,
                     t_end,
@@ -1209,6 +1231,17 @@ impl Rules<'_> {
     }
 }
 
+/// The components of the state no right-hand side depends on: the horizontal position of
+/// the centre of mass (the floor is the same everywhere) and the dissipated energy (a
+/// quadrature). Radau IIA leaves them out of its Jacobian and its factorisations.
+const PASSIVE: [bool; DIM] = {
+    let mut p = [false; DIM];
+    p[7] = true;
+    p[8] = true;
+    p[13] = true;
+    p
+};
+
 /// The several-part equations with the parts' modes fixed; every right-hand side's forces
 /// are left in `last`.
 struct PhaseSystem<'a, const K: u8, const RES: bool> {
@@ -1237,8 +1270,11 @@ impl<const K: u8, const RES: bool> OdeSystem<DIM> for PhaseSystem<'_, K, RES> {
     fn project(&self, y: &mut [f64; DIM]) {
         self.top.project(&self.contacts, y);
     }
-    /// For the implicit steps of a stiff phase: every column but the dissipated energy's
-    /// by forward differences (14 right-hand sides). The stiffness is friction's response to
+    fn passive(&self) -> [bool; DIM] {
+        PASSIVE
+    }
+    /// For the implicit steps of a stiff phase: every column but the passive ones
+    /// ([`PASSIVE`]) by forward differences (12 right-hand sides). The stiffness is friction's response to
     /// the velocities, but the attitude's columns matter to the simplified Newton iteration
     /// too: with the velocities' alone it contracted at only 0.25 to 0.6 per iteration where
     /// the top turns by a tenth of a radian in a step (T3's ball, forced: 992 of 3 198
@@ -1249,7 +1285,7 @@ impl<const K: u8, const RES: bool> OdeSystem<DIM> for PhaseSystem<'_, K, RES> {
         let mut f0 = [0.0; DIM];
         self.rhs(t, y, &mut f0);
         *jac = [[0.0; DIM]; DIM];
-        for j in 0..13 {
+        for j in (0..DIM).filter(|&j| !PASSIVE[j]) {
             let d = (f64::EPSILON * y[j].abs().max(1e-5)).sqrt();
             let mut yj = *y;
             yj[j] += d;

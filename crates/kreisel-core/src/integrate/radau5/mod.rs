@@ -658,18 +658,19 @@ impl Radau5 {
     }
 
     /// The Jacobian at `(t, y)` (with `f0 = f(t, y)`) into `jac`; `false` if not finite.
+    /// By forward differences where the system gives none, the `passive` columns zero.
     fn jacobian<const N: usize, S: OdeSystem<N> + ?Sized>(
         sys: &S,
         t: f64,
         y: &[f64; N],
         f0: &[f64; N],
+        passive: &[bool; N],
         jac: &mut [[f64; N]; N],
         stats: &mut Stats,
     ) -> bool {
         stats.jacobians += 1;
         if !sys.jacobian(t, y, jac) {
             let floor = sys.magnitude_floor();
-            let passive = sys.passive();
             let mut yj = *y;
             let mut fj = [0.0; N];
             for j in 0..N {
@@ -683,12 +684,12 @@ impl Radau5 {
                 yj[j] = y[j] + d;
                 let d = yj[j] - y[j]; // the increment actually taken
                 sys.rhs(t, &yj, &mut fj);
+                stats.rhs_evals += 1;
                 for i in 0..N {
                     jac[i][j] = (fj[i] - f0[i]) / d;
                 }
                 yj[j] = y[j];
             }
-            stats.rhs_evals += passive.iter().filter(|&&p| !p).count() as u64;
         }
         jac.iter().all(all_finite)
     }
@@ -804,7 +805,7 @@ impl Radau5 {
 
             // Jacobian and iteration matrices.
             if !have_jac || (want_new_jac && !jac_current) {
-                if !Self::jacobian(sys, t, &y, &f0, &mut jac, &mut stats) {
+                if !Self::jacobian(sys, t, &y, &f0, &passive, &mut jac, &mut stats) {
                     return Err(IntegrateError::NonFinite { t });
                 }
                 have_jac = true;

@@ -1233,7 +1233,14 @@ impl Rules<'_> {
 
 /// The components of the state no right-hand side depends on: the horizontal position of
 /// the centre of mass (the floor is the same everywhere) and the dissipated energy (a
-/// quadrature). Radau IIA leaves them out of its Jacobian and its factorisations.
+/// quadrature). Radau IIA leaves them out of its Jacobian and its factorisations; every
+/// other column it takes by forward differences. The stiffness is friction's response to
+/// the velocities, but the attitude's columns matter to the simplified Newton iteration
+/// too: with the velocities' alone it contracted at only 0.25 to 0.6 per iteration where
+/// the top turns by a tenth of a radian in a step (T3's ball, forced: 992 of 3 198 attempts
+/// rejected for it, against 168 of 1 669 with every column), and random floor runs of
+/// Coulomb-Contensou friction stalled in slides of steps rejected one after another (floor
+/// campaign, seed 1, cases 3983 and 7137).
 const PASSIVE: [bool; DIM] = {
     let mut p = [false; DIM];
     p[7] = true;
@@ -1272,30 +1279,6 @@ impl<const K: u8, const RES: bool> OdeSystem<DIM> for PhaseSystem<'_, K, RES> {
     }
     fn passive(&self) -> [bool; DIM] {
         PASSIVE
-    }
-    /// For the implicit steps of a stiff phase: every column but the passive ones
-    /// ([`PASSIVE`]) by forward differences (12 right-hand sides). The stiffness is friction's response to
-    /// the velocities, but the attitude's columns matter to the simplified Newton iteration
-    /// too: with the velocities' alone it contracted at only 0.25 to 0.6 per iteration where
-    /// the top turns by a tenth of a radian in a step (T3's ball, forced: 992 of 3 198
-    /// attempts rejected for it, against 168 of 1 669 with every column), and random floor
-    /// runs of Coulomb-Contensou friction stalled in slides of steps rejected one after
-    /// another (floor campaign, seed 1, cases 3983 and 7137).
-    fn jacobian(&self, t: f64, y: &[f64; DIM], jac: &mut [[f64; DIM]; DIM]) -> bool {
-        let mut f0 = [0.0; DIM];
-        self.rhs(t, y, &mut f0);
-        *jac = [[0.0; DIM]; DIM];
-        for j in (0..DIM).filter(|&j| !PASSIVE[j]) {
-            let d = (f64::EPSILON * y[j].abs().max(1e-5)).sqrt();
-            let mut yj = *y;
-            yj[j] += d;
-            let mut f = [0.0; DIM];
-            self.rhs(t, &yj, &mut f);
-            for (row, (fi, f0i)) in jac.iter_mut().zip(f.iter().zip(&f0)) {
-                row[j] = (fi - f0i) / d;
-            }
-        }
-        true
     }
 }
 

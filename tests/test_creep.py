@@ -179,3 +179,33 @@ def test_a_part_that_cannot_stick_beside_a_sliding_one_creeps_and_nothing_pulls(
     f = np.asarray(tr.part_friction_force)[rows, 2]
     v = np.asarray(tr.part_slip_velocity)[rows, 2]
     assert (np.einsum("ij,ij->i", f, v) <= 0.0).all()
+
+
+def test_a_patch_that_drills_at_the_creep_speed_keeps_its_drilling_friction():
+    """Floor campaign, seed 1, case 2279: two spheres under Coulomb-Contensou friction with a
+    small patch (radius 54 µm). Part 1's slip has stopped while its patch still drills at
+    about the creep speed, part 0 slides beside it. The creep (theory: "Creep: sliding at the
+    edge of the cone") continues the law at the creep speed, its drilling torque kept; the
+    first build took the full sliding friction there (from 0.1 mu N to mu N in a step), part
+    0's normal force jumped to -0.48 N, and the part was lifted off and put back 2.8e-7 s
+    later. Both parts stick together instead, the floor pushing in every row."""
+    from kreisel.shapes import Sphere
+
+    top = kreisel.PlayTop(
+        0.175060457917812, 4.411100621647552e-05, 1.3476890453976162e-05,
+        shape=[Sphere(0.014489147254574732, z=0.028023980720891427),
+               Sphere(0.01780087216471503, z=-0.003242794458155396)],
+        friction=kreisel.CoulombContensou(0.7096436957903701, 5.401702403007703e-05),
+        restitution=0.95,
+    )  # fmt: skip
+    st = top.state(theta=1.553743395481875, psi=5.729865313379527,
+                   phi_dot=-0.2471095866812016, psi_dot=-79.80588801671813,
+                   vy=-0.05669289959293096, height=0.0)  # fmt: skip
+    tr = kreisel.simulate(top, st, 0.3, events=[kreisel.events.rest()])
+    assert tr.status == "completed"
+    n = np.asarray(tr.part_normal_force)
+    assert n.min() >= -1e-9 * top.m * 9.81
+    late = [(e.name, e.part) for e in tr.events if e.t > 0.07]
+    assert set(late) == {("slip_to_roll", "part0"), ("slip_to_roll", "part1")}
+    total = np.asarray(tr.energy) + np.asarray(tr.dissipated)
+    assert np.diff(total).max() <= 1e-9 * total[0]

@@ -536,3 +536,35 @@ def test_a_slide_that_stops_while_its_patch_drills_rolls_on_drilling():
     reach = s + rho
     eps = 1e-9 * (reach * w_size + v_size + math.sqrt(9.81 * reach))
     assert rbar * abs(wn_end) == pytest.approx(eps, rel=0.05)
+
+
+def test_a_normal_force_that_jumps_through_zero_as_another_part_stops_keeps_the_part_down():
+    """Floor campaign, seed 1, case 901: a top of three parts under Coulomb-Contensou
+    friction, part 0 creeping and part 1 sliding at 4e-8 m/s. At 0.2137535 s part 0's creep
+    force changes branch and part 1's normal force jumps from 0.025 N to -0.038 N: the
+    lift-off is located at the jump, not at a crossing. It is no lift-off: with the modes
+    resolved afresh both parts stick, pressing. The first builds lifted part 1 off there (its
+    row showed the floor pulling by 0.038 N) and put it back down 1.25e-7 s later."""
+    top = kreisel.PlayTop(
+        0.006203787659746695, 1.1125925574390887e-07, 1.0571943337645271e-07,
+        shape=[Torus(0.007956012474312558, 0.0, z=-0.0038795906547545098),
+               Sphere(0.003812798309494164, z=-0.005046574610978495),
+               kreisel.shapes.Spheroid(0.00895128891991164, 0.006268601400653112,
+                                       z=0.0074456786534386876)],
+        friction=CoulombContensou(0.6452374052333834, 0.0001465083396016857),
+        restitution=0.95,
+    )  # fmt: skip
+    st = top.state(theta=2.5871220206904344e-09, phi=3.170785122060433,
+                   theta_dot=-7.866907603929195, phi_dot=-0.706331079864157,
+                   psi_dot=52.52033691630489, vy=0.035039846516847696)  # fmt: skip
+    tr = kreisel.simulate(top, st, 0.3, events=[kreisel.events.rest()])
+    assert tr.status == "completed"
+    # the floor only pushes, in every row
+    n = np.asarray(tr.part_normal_force)
+    assert n.min() >= -1e-9 * top.m * G
+    near = [(e.name, e.part) for e in tr.events if abs(e.t - 0.2137535) < 1e-6]
+    assert ("lift_off", "part1") not in near
+    assert ("touchdown", "part1") not in near
+    assert ("slip_to_roll", "part1") in near
+    total = np.asarray(tr.energy) + np.asarray(tr.dissipated)
+    assert np.diff(total).max() <= 1e-9 * total[0]

@@ -493,13 +493,13 @@ def main(argv=None) -> int:
     ap.add_argument("--shrink", action="store_true", help="shrink the printed reproducers")
     ap.add_argument("--out", default="floor_campaign_failures.json")
     ap.add_argument(
-        "--pull",
+        "--no-pull",
         action="store_true",
-        help="check the pull property too (floor_properties.check_run (g), opt-in)",
+        help="leave out the pull property (floor_properties.check_run (g))",
     )
     args = ap.parse_args(argv)
-    if args.pull:
-        os.environ["KREISEL_CHECK_PULL"] = "1"
+    if args.no_pull:
+        os.environ["KREISEL_CHECK_PULL"] = "0"
     if args.worker:
         seed, listing, t_end, rtol, gib = args.worker
         with open(listing) as fh:

@@ -130,6 +130,15 @@ pub const DRILL_EXIT: f64 = 10.0;
 /// Euler's disk's does, and the run stops there with the event `flat`.
 pub const FLAT_LEVEL: f64 = 1e-4;
 
+/// The pull (as a share of the weight `m g`) beyond which a touching part's normal force is
+/// taken to have jumped through zero rather than crossed it. A lift-off is located on the far
+/// side of its crossing, within [`crate::integrate::events::ROOT_TOL`] of it in time, where a
+/// normal force that falls continuously is a rounding below zero (at a thousand weights per
+/// second, 1e-12 of a weight); one that jumps (another part's force changing branch, as a
+/// creep's consistent direction does) is well below it there. Such a switch is not the part's
+/// lift-off, and the row at it would show the floor pulling.
+pub const PULL: f64 = 1e-9;
+
 impl Switch {
     /// The event's public name.
     pub const fn name(self) -> &'static str {
@@ -268,6 +277,33 @@ impl<'a> Rules<'a> {
             contacts,
             hop: f64::INFINITY,
         }
+    }
+
+    /// The modes of the parts `cand` resolved at `y` ([`PlayTop::resolve_at`]) with `y` put
+    /// on their constraints, where every touching part then pushes: the projection moves the
+    /// state, and where that turns a normal force into a pull, the modes are resolved again at
+    /// the projected state (up to three times). `None`, `y` untouched, where that fails.
+    fn resolve_pushing(
+        &self,
+        y: &mut [f64; DIM],
+        cand: u8,
+        prev: &Contacts,
+        eps: f64,
+    ) -> Option<Contacts> {
+        let top = self.top;
+        let n = top.parts.n;
+        let (mut yp, mut c, mut cand) = (*y, *prev, cand);
+        let mut dy = [0.0; DIM];
+        for _ in 0..4 {
+            c = top.resolve_at(&yp, cand, &c, eps)?;
+            top.project(&c, &mut yp);
+            if c.all_push(&top.dynamics(&c, &yp, &mut dy), n) {
+                *y = yp;
+                return Some(c);
+            }
+            cand = c.mask(n);
+        }
+        None
     }
 
     /// After an impulse: the parts touching and not separating resolved into modes, the
@@ -781,8 +817,20 @@ impl Rules<'_> {
             Switch::LiftOff(i) => {
                 // Leaves from the contact: the located state is put back on it first.
                 top.project(&c, y);
-                c.mode[i] = Mode::Flight;
                 let eps = self.tolerance(y);
+                let mut dy = [0.0; DIM];
+                if top.dynamics(&c, y, &mut dy).n[i] < -PULL * top.m * top.g {
+                    // The normal force jumped through zero (see [`PULL`]): the modes of every
+                    // touching part, this one included, are resolved afresh at the switch;
+                    // the part lifts off only where no set keeps it pressing.
+                    if let Some(r) = self.resolve_pushing(y, c.mask(n), &c, eps) {
+                        return Phase {
+                            contacts: r,
+                            hop: f64::INFINITY,
+                        };
+                    }
+                }
+                c.mode[i] = Mode::Flight;
                 let rest = c.mask(n);
                 if rest != 0 {
                     c = top.resolve(y, rest, &c, eps);
@@ -1310,6 +1358,14 @@ fn no_energy_from_a_switch(top: &PlayTop, y: &mut [f64; DIM], before: f64) {
     top.shed_energy(y, now - before);
 }
 
+/// Whether the row `r` has a touching part that the floor pulls by more than [`PULL`].
+fn pulls(top: &PlayTop, r: &PlayRow) -> bool {
+    let mut dy = [0.0; DIM];
+    let f = top.dynamics(&r.contacts, &r.y, &mut dy);
+    let n = top.parts.n;
+    (0..n).any(|i| r.contacts.mode[i] != Mode::Flight && f.n[i] < -PULL * top.m * top.g)
+}
+
 /// A play top rests when its kinetic energy has fallen to this share of its start.
 const REST: f64 = 1e-12;
 
@@ -1378,6 +1434,11 @@ pub(crate) fn drive(
         for i in (0..top.parts.n).filter(|&i| lifted & (1 << i) != 0) {
             info.events.push(part_event("lift_off", t, i));
         }
+        // The state after a switch at the same time (impacts make it jump), in the modes the
+        // phase integrates (those the switch left, prepared).
+        if !first && settings.t_eval.is_none() {
+            sink(t, &h.row(&phase, &y));
+        }
         let ph = phase;
         // The contact switches of this phase (terminal), then the watched events.
         let switches = h.watched(&ph);
@@ -1417,8 +1478,14 @@ pub(crate) fn drive(
             .t_eval
             .as_deref()
             .map_or(0, |te| te.len() - seg_times.map_or(0, |s| s.len()));
-        // Every step's row, except a later phase's first: the switch already gave it.
-        let row = |ts: f64, yy: &[f64; DIM]| sink(ts, &h.row(&ph, yy));
+        // Every step's row, except a later phase's first: the switch already gave it. Each is
+        // held until the next, so that the phase's last can be left out (below).
+        let mut held: Option<(f64, PlayRow)> = None;
+        let row = |ts: f64, yy: &[f64; DIM]| {
+            if let Some((t0, r)) = held.replace((ts, h.row(&ph, yy))) {
+                sink(t0, &r);
+            }
+        };
         let mut stream = Stream::new(seg_times, !first, Some(&mut *keep_going), row);
         let mut obs = WithEvents::new(locator, &mut stream);
         let (t1, y1, st) = h
@@ -1464,7 +1531,18 @@ pub(crate) fn drive(
         }
         t = t1;
         y = y1;
-        let Some((switch, record)) = reason.filter(|_| !stopped && t < t_end) else {
+        let reason = reason.filter(|_| !stopped && t < t_end);
+        if let Some((ts, r)) = held {
+            // The row at a switch, located on the far side of it, in the modes before it: left
+            // out where those modes have a touching part pulled beyond [`PULL`] (a normal
+            // force that jumped through zero there); the row after the switch, at the same
+            // time and state, follows.
+            // (A requested output time is always kept.)
+            if settings.t_eval.is_some() || reason.is_none() || ts != t || !pulls(top, &r) {
+                sink(ts, &r);
+            }
+        }
+        let Some((switch, record)) = reason else {
             break;
         };
         let before_contacts = phase.contacts;
@@ -1477,11 +1555,18 @@ pub(crate) fn drive(
         // Other parts that the switch lifted off, put down, stuck or set sliding at the same
         // instant (an impulse, or parts that stick jointly).
         let after = phase.contacts.mode;
-        let (own_name, own) = h.record(switch);
+        let (own_name, mut own) = h.record(switch);
         n_switches += 1;
         if own_name == "creep_end" && phase.contacts.creeping != 0 {
             // The creep's slip was only turned back onto its direction: no event.
             info.events.remove(record);
+        }
+        if own_name == "lift_off" && own.is_some_and(|i| after[i] != Mode::Flight) {
+            // The normal force jumped through zero as other parts' modes changed (see
+            // [`PULL`]): the part stays on the floor; its change of mode, if any, and the
+            // others' are recorded below.
+            info.events.remove(record);
+            own = None;
         }
         if own_name == "roll_to_slip" && own.is_some_and(|i| after[i] == Mode::Flight) {
             // The part could not slide (its normal force would pull): it lifted off.
@@ -1519,10 +1604,6 @@ pub(crate) fn drive(
                 info.events.push(part_event(name, t, i));
             }
         }
-        // The state after the switch at the same time (impacts make it jump).
-        if settings.t_eval.is_none() {
-            sink(t, &h.row(&phase, &y));
-        }
         // A watched event whose function the switch carries across zero (an impulse or the
         // projection that ends the last slip or drilling stops the top: rest) happens at
         // the switch; no crossing in a later phase would show it.
@@ -1542,6 +1623,10 @@ pub(crate) fn drive(
             }
         }
         if stopped {
+            // The state after the switch at the same time (impacts make it jump).
+            if settings.t_eval.is_none() {
+                sink(t, &h.row(&phase, &y));
+            }
             break;
         }
         if n_switches > MAX_SWITCHES {

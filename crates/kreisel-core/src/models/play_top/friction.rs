@@ -181,6 +181,17 @@ impl PlayTop {
                 let d = (vp[0] * vp[0] + vp[1] * vp[1] + rb * rb * wn * wn).sqrt();
                 if d > 0.0 && !creeping(d) {
                     ([-mu * vp[0] / d, -mu * vp[1] / d], -mu * rb * rb * wn / d)
+                } else if creep > 0.0 && rb * wn.abs() < creep {
+                    // The law at the creep speed, its slip along `dir` (of the size that
+                    // the drilling leaves to it): continuous in size where the measure
+                    // crosses `creep` (a patch that drills at about the creep speed keeps
+                    // its drilling torque; full sliding friction there made the normal
+                    // forces of the other parts jump through zero).
+                    let s = ((creep - rb * wn.abs()) * (creep + rb * wn.abs())).sqrt() / creep;
+                    (
+                        [-mu * s * dir[0], -mu * s * dir[1]],
+                        -mu * rb * rb * wn / creep,
+                    )
                 } else {
                     ([-mu * dir[0], -mu * dir[1]], 0.0)
                 }
@@ -288,7 +299,59 @@ impl PlayTop {
 
 #[cfg(test)]
 mod tests {
+    use super::super::parts::Shape;
+    use super::super::{Friction, PlayTop};
     use super::rim_coulomb;
+
+    /// Coulomb-Contensou friction at a patch whose sliding measure `d = |(v, rbar w_n)|`
+    /// crosses the creep speed: the law above it (`-mu (v, rbar^2 w_n) / d`), the creep below
+    /// (the slip put along `dir`). The tangential force's size and the drilling torque are
+    /// continuous across, from a patch that only slips to one that only drills; the first
+    /// build took the full sliding friction, no torque, at any drilling below the creep speed
+    /// (a jump from 1e-3 mu to mu in the tangential force: the other parts' normal forces
+    /// jumped through zero, floor campaign cases 2279 and 9925 of seed 1).
+    #[test]
+    fn the_contensou_creep_continues_the_law_at_the_creep_speed() {
+        let parts = [Shape::Sphere {
+            radius: 0.015,
+            z: -0.003,
+        }];
+        let (mu, radius) = (0.4, 2e-4);
+        let law = Friction::coulomb_contensou(mu, radius).unwrap();
+        let rb = law.rbar();
+        let top =
+            PlayTop::with_parts(0.006, 8e-7, 7e-7, &parts, 9.81, law, 0.0, 0.0, 0.0, 0.0).unwrap();
+        let creep = 1e-6;
+        let dir = [0.6, -0.8];
+        for share in [1.0, 0.9, 0.5, 1e-3, 0.0] {
+            // |v| = share d, rbar |w_n| the rest of d; v along dir
+            let at = |d: f64| {
+                let sp = share * d;
+                let wn = -((d * d - sp * sp).max(0.0)).sqrt() / rb;
+                let v = [sp * dir[0], sp * dir[1], 0.0];
+                let (ft, mz) = top.friction_per_n(v, wn, dir, creep);
+                (ft, mz, -mu * rb * rb * wn / d)
+            };
+            let (above, m_above, law_m) = at(creep * (1.0 + 1e-12));
+            let (below, m_below, _) = at(creep * (1.0 - 1e-12));
+            let size = |f: [f64; 2]| f[0].hypot(f[1]);
+            // the law above
+            assert!((size(above) - mu * share).abs() <= 1e-9 * mu, "{share}");
+            assert!((m_above - law_m).abs() <= 1e-9 * mu * rb, "{share}");
+            // continuous across (the creep's size goes as the square root of the distance
+            // to the creep speed where the patch only drills: 1.4e-6 here)
+            assert!(
+                (size(below) - size(above)).abs() <= 1e-5 * mu,
+                "{share}: {below:?}"
+            );
+            assert!(
+                (m_below - m_above).abs() <= 1e-9 * mu * rb,
+                "{share}: {m_below}"
+            );
+            // against the slip's direction
+            assert!(share == 0.0 || below[0] * dir[0] + below[1] * dir[1] < 0.0);
+        }
+    }
 
     /// The rim's closed forms against the mean over 2^16 points of the rim (the midpoint rule
     /// converges geometrically for a smooth periodic integrand; away from |v| = |a| the

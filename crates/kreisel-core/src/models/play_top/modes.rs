@@ -299,7 +299,13 @@ impl PlayTop {
 
     /// [`Self::resolve`] without the impact: None where no set (the empty one included) is
     /// consistent.
-    fn resolve_at(&self, y: &[f64; DIM], cand: u8, prev: &Contacts, eps: f64) -> Option<Contacts> {
+    pub(crate) fn resolve_at(
+        &self,
+        y: &[f64; DIM],
+        cand: u8,
+        prev: &Contacts,
+        eps: f64,
+    ) -> Option<Contacts> {
         let n = self.parts.n;
         let k = self.kin(y);
         let mut base = Contacts {

@@ -984,8 +984,6 @@ fn run<const N: usize>(
             stiff_stop: None,
         };
         let eps = h.tolerance(&y);
-        // The row after a switch is the switch's (the phase not yet prepared), as the driver's.
-        let row_after = pending.as_ref().map(|_| h.row(&phase, &y));
         match h.prepare(&mut phase, &mut y, eps) {
             (0, 0, 0) => {}
             // Drilling from the start (a top sleeping upright): the kernel is the phase's.
@@ -993,6 +991,8 @@ fn run<const N: usize>(
             (0, 0, _) => return Err(unsupported("slip_to_roll", t)),
             _ => return Err(unsupported("roll_to_slip", t)),
         }
+        // The row after a switch is in the phase's modes, prepared, as the driver's.
+        let row_after = pending.as_ref().map(|_| h.row(&phase, &y));
         let ph = phase;
         let base = Kerneled::of(*top, &ph);
         if let Some(th) = pending.take() {

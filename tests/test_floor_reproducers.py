@@ -568,3 +568,35 @@ def test_a_normal_force_that_jumps_through_zero_as_another_part_stops_keeps_the_
     assert ("slip_to_roll", "part1") in near
     total = np.asarray(tr.energy) + np.asarray(tr.dissipated)
     assert np.diff(total).max() <= 1e-9 * total[0]
+
+
+def test_a_patch_whose_slip_and_drilling_stop_together_sticks_instead_of_stalling():
+    """Floor campaign, seed 1, case 3983: a top of three parts under Coulomb-Contensou friction
+    (patch radius 0.9 mm) slides on its sphere from the start. At 0.0514 s its slip (2e-9 m/s)
+    and its drilling (rbar |w_n| about 8e-9 m/s) have both fallen to a few stick speeds: the
+    law's direction turns at about 1e9 /s there, and Radau IIA's finite-difference Jacobian
+    steps across that turn. The first builds crawled (2.6e5 rejected steps of 1e-14 s) until
+    the run was refused as stalled; the implicit steps now hand over to DOP853 where their
+    pace would exceed the run's step limit, and the drilling's torque stops the patch within
+    a microsecond: it sticks, drills no more, and the run completes."""
+    from kreisel.shapes import Spheroid
+
+    top = PlayTop(
+        0.17463270829692018, 2.615920082098775e-05, 1.6863013606033497e-05,
+        shape=[Sphere(0.013781934744400764, z=0.02055661022115802),
+               Torus(0.009479038513059007, 0.0008480805159186018, z=0.02298815072075769),
+               Spheroid(0.015767594235631715, 0.02266623849219384, z=0.011058921248681085)],
+        friction=CoulombContensou(0.9222744266805292, 0.0008993629965658286),
+    )  # fmt: skip
+    st = top.state(theta=3.1415926499324147, phi_dot=-1.4726657828312435,
+                   vx=-0.42739651028877257, vy=0.002618458958552802)  # fmt: skip
+    tr = kreisel.simulate(top, st, 0.1, events=[kreisel.events.rest()])
+    assert tr.status == "completed"
+    assert tr.stats["steps"] < 20000
+    first = [(e.name, e.part) for e in tr.events[:2]]
+    assert first == [("slip_to_roll", "part0"), ("drill_end", "part0")]
+    assert 0.05140 < tr.events[0].t < 0.05141
+    n = np.asarray(tr.part_normal_force)
+    assert n.min() >= -1e-9 * top.m * G
+    total = np.asarray(tr.energy) + np.asarray(tr.dissipated)
+    assert np.diff(total).max() <= 1e-9 * total[0]

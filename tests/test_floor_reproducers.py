@@ -600,3 +600,34 @@ def test_a_patch_whose_slip_and_drilling_stop_together_sticks_instead_of_stallin
     assert n.min() >= -1e-9 * top.m * G
     total = np.asarray(tr.energy) + np.asarray(tr.dissipated)
     assert np.diff(total).max() <= 1e-9 * total[0]
+
+
+def test_a_phase_never_starts_with_the_floor_pulling():
+    """Floor campaign, seed 1, case 632: a top whose sphere and sharp rim touch the floor at
+    one point (their slips are equal), under Coulomb-Contensou friction, so the split of the
+    normal force between them is not unique. At 0.2178274 s a creep's slip is turned back
+    onto its direction and the phase after it started with the rim pulled by 0.026 N (the
+    split on its other branch); the lift-off event, which starts below zero, could not see it,
+    and 8 rows pulled (up to 0.10 N) until the phase ended. The modes are resolved afresh where
+    a phase would start so: the sphere sticks, the rim leaves, and no row pulls."""
+    top = PlayTop(
+        0.02058858666589197, 3.508195021542103e-07, 4.2207267796355587e-07,
+        shape=[Sphere(0.006916317415095848, z=-0.0009723037927996734),
+               Torus(0.008782695439624387, 0.0, z=0.0018150446059144974),
+               Sphere(0.0, z=-0.009017877542506568)],
+        friction=CoulombContensou(0.4335324640396776, 0.00012690642841453633),
+        drilling_resistance=2.108076763234713e-05,
+    )  # fmt: skip
+    st = PlayState(quaternion=np.array([-0.12713118703215343, 0.12101826562553963,
+                                        0.9661624580331242, -0.18900355910980457]),
+                   omega=np.array([0.8776758722115844, 0.0, 0.0]),
+                   com=np.array([0.0, 0.0, 0.05547159881889811]),
+                   com_velocity=np.array([0.0011297050810010214, 0.0, 0.0]))  # fmt: skip
+    tr = kreisel.simulate(top, st, 0.3, events=[kreisel.events.rest()])
+    assert tr.status == "completed"
+    n = np.asarray(tr.part_normal_force)
+    assert n.min() >= -1e-9 * top.m * G
+    near = [(e.name, e.part) for e in tr.events if abs(e.t - 0.2178274) < 1e-6]
+    assert ("slip_to_roll", "part0") in near and ("lift_off", "part1") in near
+    total = np.asarray(tr.energy) + np.asarray(tr.dissipated)
+    assert np.diff(total).max() <= 1e-9 * total[0]

@@ -829,6 +829,24 @@ impl Rules<'_> {
             }
         }
         lifted |= self.lift_pullers(&mut phase.contacts, y);
+        // A phase never starts with the floor pulling a touching part beyond [`PULL`] (the
+        // switch before it left modes whose forces pull once prepared: a creep turned back
+        // onto its direction beside a part whose normal force changed branch, floor campaign
+        // case 632 of seed 1): the touching parts' modes are resolved afresh, where a set
+        // keeps every one pressing or lets it leave ([`Self::resolve_pushing`]).
+        if !phase.contacts.flat && phase.contacts.mask(n) != 0 {
+            let mut dy = [0.0; DIM];
+            let f = top.dynamics(&phase.contacts, y, &mut dy);
+            let c = phase.contacts;
+            if (0..n).any(|i| c.mode[i] != Mode::Flight && f.n[i] < -PULL * top.m * top.g) {
+                if let Some(r) = self.resolve_pushing(y, c.mask(n), &c, eps) {
+                    lifted |= c.mask(n) & !r.mask(n);
+                    slid |= c.mask_of(Mode::Roll, n) & r.mask_of(Mode::Slip, n);
+                    drilled |= c.mask_of(Mode::Slip, n) & r.mask_of(Mode::Roll, n);
+                    phase.contacts = r;
+                }
+            }
+        }
         let k = top.kin(y);
         let mut floor = [0.0; super::MAX_PARTS];
         for (i, f) in floor.iter_mut().enumerate().take(top.parts.n) {

@@ -835,10 +835,8 @@ impl Rules<'_> {
         // case 632 of seed 1): the touching parts' modes are resolved afresh, where a set
         // keeps every one pressing or lets it leave ([`Self::resolve_pushing`]).
         if !phase.contacts.flat && phase.contacts.mask(n) != 0 {
-            let mut dy = [0.0; DIM];
-            let f = top.dynamics(&phase.contacts, y, &mut dy);
             let c = phase.contacts;
-            if (0..n).any(|i| c.mode[i] != Mode::Flight && f.n[i] < -PULL * top.m * top.g) {
+            if pulls(top, &c, y) {
                 if let Some(r) = self.resolve_pushing(y, c.mask(n), &c, eps) {
                     lifted |= c.mask(n) & !r.mask(n);
                     slid |= c.mask_of(Mode::Roll, n) & r.mask_of(Mode::Slip, n);
@@ -1410,12 +1408,11 @@ fn no_energy_from_a_switch(top: &PlayTop, y: &mut [f64; DIM], before: f64) {
     top.shed_energy(y, now - before);
 }
 
-/// Whether the row `r` has a touching part that the floor pulls by more than [`PULL`].
-fn pulls(top: &PlayTop, r: &PlayRow) -> bool {
+/// Whether `contacts` at `y` have a touching part that the floor pulls by more than [`PULL`].
+fn pulls(top: &PlayTop, contacts: &Contacts, y: &[f64; DIM]) -> bool {
     let mut dy = [0.0; DIM];
-    let f = top.dynamics(&r.contacts, &r.y, &mut dy);
-    let n = top.parts.n;
-    (0..n).any(|i| r.contacts.mode[i] != Mode::Flight && f.n[i] < -PULL * top.m * top.g)
+    let f = top.dynamics(contacts, y, &mut dy);
+    (0..top.parts.n).any(|i| contacts.mode[i] != Mode::Flight && f.n[i] < -PULL * top.m * top.g)
 }
 
 /// A play top rests when its kinetic energy has fallen to this share of its start.
@@ -1590,7 +1587,11 @@ pub(crate) fn drive(
             // force that jumped through zero there); the row after the switch, at the same
             // time and state, follows.
             // (A requested output time is always kept.)
-            if settings.t_eval.is_some() || reason.is_none() || ts != t || !pulls(top, &r) {
+            if settings.t_eval.is_some()
+                || reason.is_none()
+                || ts != t
+                || !pulls(top, &r.contacts, &r.y)
+            {
                 sink(ts, &r);
             }
         }

@@ -631,3 +631,36 @@ def test_a_phase_never_starts_with_the_floor_pulling():
     assert ("slip_to_roll", "part0") in near and ("lift_off", "part1") in near
     total = np.asarray(tr.energy) + np.asarray(tr.dissipated)
     assert np.diff(total).max() <= 1e-9 * total[0]
+
+
+def test_a_slip_stopped_by_another_parts_stick_sticks_too():
+    """Floor campaign, seed 1, case 5415: a top upside down on its sharp rim and its point
+    (Coulomb friction, rolling and drilling resistance) slides to rest on both, their slips
+    nearly equal (the top hardly turns). The impulse that sticks the point at 0.2187580 s
+    stops the rim's slip too, below the stick speed: the rim's `slip_to_roll` event, located
+    on its slip falling to that speed, could not be seen from below it, and the rim went on
+    sliding at slips of 1e-13 m/s, its law's direction chattering through 4 million steps in
+    2e-8 s until the run was refused. A part whose slip a switch has already stopped is now
+    stopped as at that event: both parts stick at that instant and the top comes to rest."""
+    top = PlayTop(
+        0.01577049178894355, 2.937431676683099e-06, 2.773655095283138e-06,
+        shape=[Torus(0.022571488843499413, 0.0, z=-0.011448423826313517),
+               Sphere(0.0, z=0.03995524887748883)],
+        friction=Coulomb(0.3106948427994063), rolling_resistance=0.00172776848363518,
+        drilling_resistance=0.0015667440771423144,
+    )  # fmt: skip
+    st = top.state(theta=2.876114105984642, phi=1.3269168809399297, psi=2.7496675524645324,
+                   theta_dot=-0.049566783941722446, phi_dot=5.718264996804398,
+                   psi_dot=-12.630315409067833)  # fmt: skip
+    tr = kreisel.simulate(top, st, 0.3, events=[kreisel.events.rest()])
+    assert tr.status == "event"  # the rest
+    assert tr.stats["steps"] < 5000
+    sticks = {e.part: e.t for e in tr.events if e.name == "slip_to_roll" and e.t > 0.2}
+    assert set(sticks) == {"part0", "part1"}
+    assert 0.21875 < sticks["part0"] < 0.21876
+    assert sticks["part1"] == pytest.approx(sticks["part0"], abs=1e-9)
+    assert tr.events[-1].name == "rest"
+    n = np.asarray(tr.part_normal_force)
+    assert n.min() >= -1e-9 * top.m * G
+    total = np.asarray(tr.energy) + np.asarray(tr.dissipated)
+    assert np.diff(total).max() <= 1e-9 * total[0]

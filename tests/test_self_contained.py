@@ -12,7 +12,8 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 OUTSIDE = re.compile(
     # (the note's name is written in two pieces, so that this file does not cite it either)
-    r"PHYS" r"ICS(?: notes|\.md)|/work/shared|\.\./shared|-top\.txt"
+    r"PHYS"
+    r"ICS(?: notes|\.md)|/work/shared|\.\./shared|-top\.txt"
     r"|(?-i:\b(?:BENCHMARKS|DESIGN|STYLE)\.md)|\bseeds?/"
     r"|seed's|seed files?\b|\bthe seed\b(?! of| for)",
     re.IGNORECASE,

@@ -664,3 +664,120 @@ def test_a_slip_stopped_by_another_parts_stick_sticks_too():
     assert n.min() >= -1e-9 * top.m * G
     total = np.asarray(tr.energy) + np.asarray(tr.dissipated)
     assert np.diff(total).max() <= 1e-9 * total[0]
+
+
+def test_a_part_off_the_floor_at_a_bounce_does_not_limit_the_flights_steps():
+    """Floor campaign, seed 1, case 2559: a disk upside down, its ball below and its sharp rim
+    2.3 cm up and level, bounces on the ball (restitution 0.95). The step limit of a flight
+    after a bounce (a quarter of the bouncing part's expected flight, so that its touchdown is
+    not stepped over) was taken over every part off the floor, the rim included: its gap's
+    rate (4e-5 m/s, from the impact's spin) over its lowest point's free acceleration (5e9
+    m/s^2 on a level sharp rim, where that point turns at any rate) gave steps of 8e-7 s
+    through a flight of 0.18 s, 230 000 rows. Only parts at the floor at the impact bounce."""
+    top = PlayTop(
+        0.014482963135581542, 5.245193936069084e-07, 1.0490387872138168e-06,
+        shape=[Sphere(0.018093040892314557, z=-0.004475202203307892),
+               Torus(0.008545895913429111, 0.0, z=-0.009544506704941547)],
+        friction=CoulombContensou(0.16152205264460184, 0.0), restitution=0.95,
+    )  # fmt: skip
+    st = top.state(theta=math.pi, psi=6.179849979255903, phi_dot=1.774519147934952,
+                   vy=0.012117170883445208, height=0.0440107667833457)  # fmt: skip
+    tr = kreisel.simulate(top, st, 0.3)
+    assert tr.status == "completed"
+    assert tr.stats["steps"] < 1000
+    downs = [e.t for e in tr.events if e.name == "touchdown" and e.part == "part0"]
+    assert len(downs) == 2
+    # The flight between them: the centre of mass leaves at vz and the ball's lowest point
+    # stays below G by the same height (the top hardly tilts), so it lasts 2 vz / g.
+    t = np.asarray(tr["t"])
+    r = int(np.searchsorted(t, downs[0], side="right")) - 1  # the row after the impact
+    assert t[r] == downs[0]
+    vz = np.asarray(tr.com_velocity)[r, 2]
+    assert downs[1] - downs[0] == pytest.approx(2.0 * vz / G, rel=1e-3)
+    total = np.asarray(tr.energy) + np.asarray(tr.dissipated)
+    assert np.diff(total).max() <= 1e-12 * total[0]
+
+
+def test_a_dynamic_jam_whose_sticking_impulse_leaves_the_cone_is_an_impact():
+    """Floor campaign, seed 1, case 2387: a top under Coulomb-Contensou friction (mu 0.95)
+    slides on its ring with sliding's own coefficient heading for zero (the Painleve dynamic
+    jam), its normal force growing as the coefficient's inverse. The tangential impact that
+    should end it stopped the contact point only where that impulse lay in the cone; here it
+    did not, nothing was done, the jam event (which started past its level) never fired
+    again, and the normal force grew past 300 weights until the steps fell below 1e-16 s and
+    the run was refused. The impact now goes on at the law's friction until the slip stops or
+    has turned the coefficient clear of zero, and the jam is watched afresh from where each
+    phase starts."""
+    from kreisel.shapes import Spheroid
+
+    top = PlayTop(
+        0.031038597578746743, 1.0469786983045076e-06, 1.0353096722592859e-06,
+        shape=[Torus(0.00467042388412155, 0.0009356582119759214, z=-0.01578014028821223),
+               Torus(0.009845507402240529, 0.003353227073438942, z=0.0028594601106977213),
+               Spheroid(0.006640919632618385, 0.002292425597315563, z=9.406324894992244e-05)],
+        friction=CoulombContensou(0.9474347037112664, 5.9627904151504836e-05),
+        rolling_resistance=0.000427808577224141,
+    )  # fmt: skip
+    st = top.state(theta=2.3768808624358426, phi=0.9917849198421828, psi=3.3540934647729554,
+                   theta_dot=12.390314924575033, psi_dot=-7.9377714084716855)  # fmt: skip
+    tr = kreisel.simulate(top, st, 0.3, events=[kreisel.events.rest()])
+    assert tr.status == "completed"
+    assert tr.stats["steps"] < 20000
+    jams = [e.t for e in tr.events if e.name == "tangential_impact"]
+    assert jams and 0.000455 < jams[0] < 0.000457
+    n = np.asarray(tr.part_normal_force)
+    assert n.min() >= -1e-9 * top.m * G
+    total = np.asarray(tr.energy) + np.asarray(tr.dissipated)
+    assert np.diff(total).max() <= 1e-9 * total[0]
+
+
+def test_a_landing_never_takes_the_sliding_branch_of_a_painleve_contact():
+    """Floor campaign, seed 1, case 7116: a cone (one sphere) under Coulomb-Contensou
+    friction (mu 0.65) lands on its ball. Where sliding's own coefficient is negative, sliding
+    with a pushing normal force is consistent, and so is flight: the landing took sliding (at
+    -245 /kg), whose normal force grows without bound (0.19 N to 3900 N in 1.3 ms, 170 000
+    weights) until the steps fell below 1e-16 s. The modes of a contact no longer take a
+    sliding part whose coefficient is not positive: the top bounces and slides on with its
+    normal force bounded."""
+    top = PlayTop(
+        0.0023691980229201617, 1.3828015040264449e-08, 1.3185743135361687e-08,
+        s=0.005106741999366141, rho=0.007325804375420137,
+        friction=CoulombContensou(0.652516768471943, 0.00016709258903575028),
+        restitution=0.95, rolling_resistance=0.00039999673832978794,
+    )  # fmt: skip
+    st = top.state(theta=1.2299919344783508, theta_dot=10.581594155289139,
+                   phi_dot=40.52035128909267, height=0.04424741072242146)  # fmt: skip
+    _completes_with_bounded_pushing_forces(top, st)
+
+
+def test_viscous_friction_may_jam():
+    """Floor campaign, seed 1, case 500: a top of three parts under viscous friction
+    (2.06 s/m: a force of mu |v| per unit normal force, 1.3 at its slip of 0.65 m/s) slides on
+    its rim. Viscous friction was taken never to jam; the normal force grew past 280 N on a
+    37 g top until the steps fell below 1e-16 s. Its force per unit normal force has no bound,
+    so it is watched for the jam like the laws that can stick."""
+    from kreisel.shapes import Spheroid
+
+    top = PlayTop(
+        0.03716866967458169, 3.964633402584378e-06, 2.683322663573635e-06,
+        shape=[Spheroid(0.006194410970256744, 0.01890066772390389, z=-0.01241995817270403),
+               Sphere(0.01614761543588894, z=-0.023732915868213487),
+               Torus(0.017682065487616118, 0.0004160659804440846, z=-0.04800389173407224)],
+        friction=Viscous(2.060421336462543), rolling_resistance=1.1499421213072118e-05,
+        drilling_resistance=2.154110713075515e-05,
+    )  # fmt: skip
+    st = top.state(theta=0.8206119610960622, phi=4.985552752410004, phi_dot=0.319993578724153,
+                   psi_dot=0.5412396208005358, height=0.04132309715289833)  # fmt: skip
+    _completes_with_bounded_pushing_forces(top, st)
+
+
+def _completes_with_bounded_pushing_forces(top, st):
+    """A run to 0.3 s (or rest) completes, every part's normal force pushes (to 1e-9 of the
+    weight) and stays below a hundred weights, and E + dissipated never rises."""
+    tr = kreisel.simulate(top, st, 0.3, events=[kreisel.events.rest()])
+    assert tr.status == "completed"
+    n = np.asarray(tr.part_normal_force)
+    assert n.max() < 100 * top.m * G
+    assert n.min() >= -1e-9 * top.m * G
+    total = np.asarray(tr.energy) + np.asarray(tr.dissipated)
+    assert np.diff(total).max() <= 1e-9 * total[0]

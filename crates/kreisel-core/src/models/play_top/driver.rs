@@ -221,7 +221,11 @@ pub struct Phase {
 /// below it, by the rounding of their constraints), so that every touchdown event function
 /// starts positive. `slack` does the same for a sticking part's cone margin: a part that
 /// sticks from where its friction is at the cone's edge starts the phase at a margin of
-/// zero, to rounding.
+/// zero, to rounding. `jam` does the same for a sliding part's jam event (its sliding
+/// coefficient's level and its normal force's cap, [`Switch::Jam`]): a phase that starts
+/// beyond either (a switch left a part sliding with its normal force already past the cap,
+/// or its coefficient below the level) watches for them halving (the coefficient) or
+/// doubling (the force) from where it starts.
 ///
 /// `resolved` is the slip the integration resolves, as a share of the speed scale: ten
 /// times its `rtol` (see [`Rules::tolerance`]).
@@ -230,6 +234,7 @@ pub(crate) struct Rules<'a> {
     pub last: RefCell<Solved>,
     pub floor: Cell<[f64; super::MAX_PARTS]>,
     pub slack: Cell<[f64; super::MAX_PARTS]>,
+    pub jam: Cell<[[f64; 2]; super::MAX_PARTS]>,
     pub resolved: Cell<f64>,
 }
 
@@ -266,6 +271,7 @@ impl<'a> Rules<'a> {
             last: RefCell::new(Solved::NONE),
             floor: Cell::new([0.0; super::MAX_PARTS]),
             slack: Cell::new([0.0; super::MAX_PARTS]),
+            jam: Cell::new([[0.0; 2]; super::MAX_PARTS]),
             resolved: Cell::new(0.0),
         }
     }
@@ -388,12 +394,17 @@ impl<'a> Rules<'a> {
             }
         }
         let k = top.kin(y);
-        // The shortest separating part's flight, for the step limit; a separation below the
-        // bounce cut-off (a round-off velocity) limits nothing.
+        // The shortest bouncing part's flight, for the step limit; a separation below the
+        // bounce cut-off (a round-off velocity) limits nothing, nor does a part off the floor
+        // at the impact (its gap's rate and free acceleration say nothing of a bounce: a top
+        // upside down bouncing on its ball, its sharp rim 2 cm up and level, whose lowest
+        // point's acceleration is 5e9 m/s^2 there, was limited to steps of 8e-7 s through a
+        // flight of 0.18 s).
         let mut hop = f64::INFINITY;
         for i in 0..top.parts.n {
-            let vn = top.parts.shape[i].gap_rate(k.v[2], k.w, k.e3);
-            if contacts.mode[i] == Mode::Flight {
+            let p = &top.parts.shape[i];
+            if contacts.mode[i] == Mode::Flight && p.gap(k.zg, k.e3) <= 1e-9 * l {
+                let vn = p.gap_rate(k.v[2], k.w, k.e3);
                 hop = hop.min(top.bounce(i, y, vn).unwrap_or(f64::INFINITY));
             }
         }
@@ -568,8 +579,8 @@ impl Rules<'_> {
                 // gives grows past a hundred weights (the coefficient heading for zero
                 // faster than the steps can follow): either way the tangential impact.
                 let f = forces();
-                let cap = 1e2 * top.m * top.g;
-                let own = (f.den[i] - self.jam_level()) / self.jam_level();
+                let [level, cap] = self.jam.get()[i];
+                let own = (f.den[i] - level) / level;
                 if cap > 0.0 {
                     own.min((cap - f.n[i]) / cap)
                 } else {
@@ -747,6 +758,43 @@ impl Rules<'_> {
         (ph.contacts.mode[i] == Mode::Roll).then_some(ph)
     }
 
+    /// The parts of a phase about to start that slide (not creeping) with their slips
+    /// already stopped (their sliding measure at most the stick speed `eps`), each stopped as
+    /// at its `SlipToRoll` event (sticking, with the parts that can stick beside it, else
+    /// creeping): the switch before left them so (the impulse that stuck another part
+    /// stopped this one's slip too: a top on a rim and a point, both sliding to rest
+    /// together, floor campaign case 5415 of seed 1), and that event, located on the measure
+    /// falling to the stick speed, would never be seen from below it: the part's law's
+    /// direction chattered at slips of 1e-13 m/s through 4 million steps in 2e-8 s. Returns
+    /// the parts stuck and those lifted off (bit masks).
+    fn stop_stopped(&self, phase: &mut Phase, y: &mut [f64; DIM], eps: f64) -> (u8, u8) {
+        let top = self.top;
+        let n = top.parts.n;
+        let (mut stuck, mut lifted) = (0u8, 0u8);
+        if phase.contacts.flat || !top.friction.can_stick() {
+            return (stuck, lifted);
+        }
+        let mut seen = 0u8;
+        for _ in 0..n {
+            let c = phase.contacts;
+            let k = top.kin(y);
+            let stopped = (0..n).find(|&j| {
+                let vp = top.parts.shape[j].point_velocity(k.v, k.w, k.e3);
+                c.mode[j] == Mode::Slip
+                    && (c.creeping | seen) & (1 << j) == 0
+                    && top.slide_measure(vp, k.w[2]) <= eps
+            });
+            let Some(j) = stopped else { break };
+            seen |= 1 << j;
+            let next = self.apply(Switch::SlipToRoll(j), phase, y);
+            stuck |= c.mask_of(Mode::Slip, n) & next.contacts.mask_of(Mode::Roll, n);
+            lifted |= c.mask(n) & !next.contacts.mask(n);
+            *phase = next;
+            phase.contacts.creep = eps;
+        }
+        (stuck, lifted)
+    }
+
     pub(crate) fn record(&self, sw: Switch) -> (&'static str, Option<usize>) {
         (sw.name(), Some(sw.part()))
     }
@@ -781,35 +829,10 @@ impl Rules<'_> {
                 drilled = 1 << i;
             }
         }
-        // A part that slides (not creeping) with its slip already stopped (its sliding
-        // measure at most the stick speed): the switch before left it so (the impulse that
-        // stuck another part stopped this one's slip too: a top on a rim and a point, both
-        // sliding to rest together, floor campaign case 5415 of seed 1), and its `SlipToRoll`
-        // event, located on the measure falling to the stick speed, would never be seen from
-        // below it: its law's direction chattered at slips of 1e-13 m/s through 4 million
-        // steps in 2e-8 s. It is stopped as at that event (sticking, with the parts that can
-        // stick beside it, else creeping).
         let mut lifted = 0u8;
-        if !phase.contacts.flat && top.friction.can_stick() {
-            let mut seen = 0u8;
-            for _ in 0..n {
-                let c = phase.contacts;
-                let k = top.kin(y);
-                let stopped = (0..n).find(|&j| {
-                    let vp = top.parts.shape[j].point_velocity(k.v, k.w, k.e3);
-                    c.mode[j] == Mode::Slip
-                        && (c.creeping | seen) & (1 << j) == 0
-                        && top.slide_measure(vp, k.w[2]) <= eps
-                });
-                let Some(j) = stopped else { break };
-                seen |= 1 << j;
-                let next = self.apply(Switch::SlipToRoll(j), phase, y);
-                drilled |= c.mask_of(Mode::Slip, n) & next.contacts.mask_of(Mode::Roll, n);
-                lifted |= c.mask(n) & !next.contacts.mask(n);
-                *phase = next;
-                phase.contacts.creep = eps;
-            }
-        }
+        let (stuck, left) = self.stop_stopped(phase, y, eps);
+        drilled |= stuck;
+        lifted |= left;
         if !phase.contacts.flat && phase.contacts.mask_of(Mode::Roll, n) != 0 {
             let mut dy = [0.0; DIM];
             let f = top.dynamics(&phase.contacts, y, &mut dy);
@@ -857,6 +880,25 @@ impl Rules<'_> {
             }
         }
         lifted |= self.lift_pullers(&mut phase.contacts, y);
+        if lifted != 0 {
+            // A part lifted off here (a creep's) may leave another sliding with its slip
+            // stopped, which could not stick beside the creep (case 6878 of seed 1): it is
+            // stopped now, its cone's slack taken as where the phase's sticking parts' are.
+            let (stuck, left) = self.stop_stopped(phase, y, eps);
+            if stuck != 0 {
+                let mut dy = [0.0; DIM];
+                let f = top.dynamics(&phase.contacts, y, &mut dy);
+                let round = 1e-12 * top.friction.mu() * top.m * top.g.max(1e-300);
+                for (i, s) in slack.iter_mut().enumerate().take(n) {
+                    if stuck & (1 << i) != 0 {
+                        *s = (-top.stick_margin(&f, i)).max(0.0) + round;
+                    }
+                }
+                self.slack.set(slack);
+            }
+            drilled |= stuck;
+            lifted |= left;
+        }
         // A phase never starts with the floor pulling a touching part beyond [`PULL`] (the
         // switch before it left modes whose forces pull once prepared: a creep turned back
         // onto its direction beside a part whose normal force changed branch, floor campaign
@@ -873,6 +915,20 @@ impl Rules<'_> {
                 }
             }
         }
+        let mut jam = [[self.jam_level(), 1e2 * top.m * top.g]; super::MAX_PARTS];
+        if (0..n).any(|i| phase.contacts.mode[i] == Mode::Slip) && !phase.contacts.flat {
+            let mut dy = [0.0; DIM];
+            let f = top.dynamics(&phase.contacts, y, &mut dy);
+            for (i, j) in jam.iter_mut().enumerate().take(n) {
+                if phase.contacts.mode[i] == Mode::Slip {
+                    if f.den[i] > 0.0 {
+                        j[0] = j[0].min(0.5 * f.den[i]);
+                    }
+                    j[1] = j[1].max(2.0 * f.n[i]);
+                }
+            }
+        }
+        self.jam.set(jam);
         let k = top.kin(y);
         let mut floor = [0.0; super::MAX_PARTS];
         for (i, f) in floor.iter_mut().enumerate().take(top.parts.n) {

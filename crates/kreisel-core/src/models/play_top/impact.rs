@@ -87,9 +87,12 @@ impl PlayTop {
     /// inverse effective mass. The normal velocity first falls (compression) while the slip
     /// decays; the impact ends when it is back to zero (no rebound), with sliding consistent
     /// again. Where a Coulomb slip stops on the way, the rest of the impact is the impulse that
-    /// stops the contact point (it sticks). Returns the state after the impulse (the kinetic
-    /// energy it takes added to the dissipated energy), or None where the part is not jammed,
-    /// has no friction, or the process does not end.
+    /// stops the contact point (it sticks). Where the coefficient is still just positive (the
+    /// dynamic jam: the normal force growing without bound), the impulse that stops the
+    /// contact point where it lies in the cone, else the process at the law's friction until
+    /// the slip stops or has turned the coefficient clear of zero. Returns the state after
+    /// the impulse (the kinetic energy it takes added to the dissipated energy), or None where
+    /// the part is not jammed, has no friction, or the process does not end.
     pub fn jam_impact(&self, y: &[f64; DIM], i: usize) -> Option<[f64; DIM]> {
         let (mu, viscous) = match self.friction {
             Friction::Viscous { mu } => (mu, true),
@@ -132,6 +135,7 @@ impl PlayTop {
         let mut h = h_max.min(1e-3 * vs / knorm);
         let (mut v, mut p) = (v0, ZERO);
         let mut compressed = false;
+        let mut jammed = false;
         let apply = |p: [f64; 3]| {
             let mut out = *y;
             self.kick(&k, &mut out, p, cross(arm, p));
@@ -144,6 +148,11 @@ impl PlayTop {
             Some(out)
         };
         for _ in 0..200_000 {
+            if jammed && kmul(slope(v))[2] > 10.0 * self.jam_level() {
+                // The slip has turned so that sliding's own coefficient is clear of zero
+                // again: the normal force it gives is bounded, the jam is over.
+                return apply(p);
+            }
             if !viscous && v[0].hypot(v[1]) <= 10.0 * vstop {
                 // The slip has stopped: the rest of the impact stops the contact point.
                 let stop = solve3(transpose(kc), scale(-1.0, v));
@@ -177,7 +186,7 @@ impl PlayTop {
                 };
                 return apply(add(p, scale(f.clamp(0.0, 1.0), dp)));
             }
-            if !compressed && vn[2] >= v[2] {
+            if !compressed && !jammed && vn[2] >= v[2] {
                 // Sliding's own coefficient is still (just) positive: the normal force is
                 // growing without bound as it heads for zero (the dynamic jam), and its
                 // friction stops the slip first. That is the impulse that stops the contact
@@ -185,11 +194,20 @@ impl PlayTop {
                 let stop = solve3(transpose(kc), scale(-1.0, v0));
                 let inside =
                     stop[2] > 0.0 && self.cone_margin(stop[2], [stop[0], stop[1]], 0.0) >= 0.0;
-                return if !viscous && inside {
-                    apply(stop)
-                } else {
-                    None
-                };
+                if inside && !viscous {
+                    return apply(stop);
+                }
+                // Where that impulse leaves the cone (and under viscous friction, which
+                // cannot stick), the normal force grows without bound while sliding's own
+                // coefficient heads for zero, and its friction turns and slows the slip
+                // faster than the motion moves: the process goes on, the law's friction
+                // along the slip, the normal velocity changing by the coefficient times the
+                // impulse (next to nothing at the jam), until the slip stops or has turned so
+                // that the coefficient is clear of zero (ten jam levels); an impulse that
+                // would feed energy in is refused by `apply`.
+                // Without it the slip went on with its normal force growing past 300 weights
+                // until the steps fell below 1e-16 s (floor campaign case 2387 of seed 1).
+                jammed = true;
             }
             compressed |= vn[2] < 0.0;
             v = vn;

@@ -345,7 +345,15 @@ impl PlayTop {
                 }
             }
             let f = self.demote(&mut c, y, s, &mut dy);
-            let push = c.all_push(&f, n);
+            // A sliding part whose own coefficient is not positive (the Painleve case) is
+            // not taken even where its normal force pushes: that is the branch whose force
+            // grows without bound (a cone landing on its ball under Coulomb-Contensou
+            // friction, mu 0.65, started sliding so at a coefficient of -245 /kg, its normal
+            // force growing from 0.19 N to 3900 N in 1.3 ms until the steps fell below
+            // 1e-16 s: floor campaign case 7116 of seed 1); flight, where the free motion
+            // leaves the floor, or else the tangential impact, is taken instead.
+            let push =
+                c.all_push(&f, n) && (0..n).all(|i| c.mode[i] != Mode::Slip || f.den[i] > 0.0);
             let open = (0..n).all(|i| {
                 cand & (1 << i) == 0
                     || c.mode[i] != Mode::Flight

@@ -271,7 +271,7 @@ impl<'a> Rules<'a> {
             last: RefCell::new(Solved::NONE),
             floor: Cell::new([0.0; super::MAX_PARTS]),
             slack: Cell::new([0.0; super::MAX_PARTS]),
-            jam: Cell::new([[0.0; 2]; super::MAX_PARTS]),
+            jam: Cell::new(jam_arming(top)),
             resolved: Cell::new(0.0),
         }
     }
@@ -295,11 +295,6 @@ impl<'a> Rules<'a> {
         }
         let mut dy = [0.0; DIM];
         self.top.dynamics(contacts, y, &mut dy)
-    }
-
-    /// The own coefficient below which a sliding part is taken to jam.
-    fn jam_level(&self) -> f64 {
-        self.top.jam_level()
     }
 
     /// Ring part `i` lies flat from `y` on: sliding, or stuck where its sliding is within the
@@ -546,11 +541,7 @@ impl Rules<'_> {
                 top.project(&stuck, &mut ys);
                 CREEP_STICK * top.friction.mu() * top.m * top.g - top.creep_margin(&stuck, i, &ys)
             }
-            Switch::SlipToRoll(i) => {
-                let k = top.kin(y);
-                let vp = top.parts.shape[i].point_velocity(k.v, k.w, k.e3);
-                top.slide_measure(vp, k.w[2]) - eps
-            }
+            Switch::SlipToRoll(i) => top.part_slide(&top.kin(y), i) - eps,
             Switch::CreepEnd(i) => {
                 // The slip grows past the creep's range, or turns more than 60 degrees away
                 // from the direction the creep's friction opposes (the creep does not damp
@@ -629,8 +620,7 @@ impl Rules<'_> {
         let mut want = c;
         let mut tried = 0u8;
         for j in 0..n {
-            let vp = top.parts.shape[j].point_velocity(k.v, k.w, k.e3);
-            if cand & (1 << j) != 0 && top.slide_measure(vp, k.w[2]) <= range {
+            if cand & (1 << j) != 0 && top.part_slide(&k, j) <= range {
                 want.mode[j] = Mode::Roll;
                 tried |= 1 << j;
             }
@@ -653,10 +643,7 @@ impl Rules<'_> {
         top.project(&want, &mut ys);
         let eps = self.tolerance(&ys);
         let k = top.kin(&ys);
-        let still = (0..n).all(|j| {
-            let vp = top.parts.shape[j].point_velocity(k.v, k.w, k.e3);
-            sticking & (1 << j) == 0 || top.slide_measure(vp, k.w[2]) <= eps
-        });
+        let still = (0..n).all(|j| sticking & (1 << j) == 0 || top.part_slide(&k, j) <= eps);
         if still && want.all_push(&top.dynamics(&want, &ys, &mut dy), n) {
             *y = ys;
             phase.contacts = want;
@@ -779,10 +766,9 @@ impl Rules<'_> {
             let c = phase.contacts;
             let k = top.kin(y);
             let stopped = (0..n).find(|&j| {
-                let vp = top.parts.shape[j].point_velocity(k.v, k.w, k.e3);
                 c.mode[j] == Mode::Slip
                     && (c.creeping | seen) & (1 << j) == 0
-                    && top.slide_measure(vp, k.w[2]) <= eps
+                    && top.part_slide(&k, j) <= eps
             });
             let Some(j) = stopped else { break };
             seen |= 1 << j;
@@ -812,7 +798,6 @@ impl Rules<'_> {
         *self.last.borrow_mut() = Solved::NONE;
         phase.contacts.creep = eps;
         let mut slid = 0u8;
-        let mut slack = [0.0; super::MAX_PARTS];
         // Drilling is a state of a part alone on the floor, rolling.
         let alone = phase.contacts.mask(n);
         if alone.count_ones() != 1 || phase.contacts.mask_of(Mode::Roll, n) != alone {
@@ -838,21 +823,18 @@ impl Rules<'_> {
             let f = top.dynamics(&phase.contacts, y, &mut dy);
             // Rounding of a cone margin: of the friction's own scale.
             let round = 1e-12 * top.friction.mu() * top.m * top.g.max(1e-300);
-            for (i, s) in slack.iter_mut().enumerate().take(n) {
-                if phase.contacts.mode[i] != Mode::Roll || phase.contacts.drilling & (1 << i) != 0 {
-                    continue;
-                }
-                let margin = top.stick_margin(&f, i);
-                if margin < -round && f.n[i] >= 0.0 {
+            for i in 0..n {
+                if phase.contacts.mode[i] == Mode::Roll
+                    && phase.contacts.drilling & (1 << i) == 0
+                    && top.stick_margin(&f, i) < -round
+                    && f.n[i] >= 0.0
+                {
                     phase.contacts.slide_against(i, &f);
                     slid |= 1 << i;
-                } else {
-                    *s = (-margin).max(0.0) + round;
                 }
             }
             phase.contacts.creeping |= slid;
         }
-        self.slack.set(slack);
         // Only a sliding part creeps (a part set sliding here included), one at a time:
         // the first.
         let c = phase.contacts;
@@ -883,19 +865,8 @@ impl Rules<'_> {
         if lifted != 0 {
             // A part lifted off here (a creep's) may leave another sliding with its slip
             // stopped, which could not stick beside the creep (case 6878 of seed 1): it is
-            // stopped now, its cone's slack taken as where the phase's sticking parts' are.
+            // stopped now.
             let (stuck, left) = self.stop_stopped(phase, y, eps);
-            if stuck != 0 {
-                let mut dy = [0.0; DIM];
-                let f = top.dynamics(&phase.contacts, y, &mut dy);
-                let round = 1e-12 * top.friction.mu() * top.m * top.g.max(1e-300);
-                for (i, s) in slack.iter_mut().enumerate().take(n) {
-                    if stuck & (1 << i) != 0 {
-                        *s = (-top.stick_margin(&f, i)).max(0.0) + round;
-                    }
-                }
-                self.slack.set(slack);
-            }
             drilled |= stuck;
             lifted |= left;
         }
@@ -904,30 +875,42 @@ impl Rules<'_> {
         // onto its direction beside a part whose normal force changed branch, floor campaign
         // case 632 of seed 1): the touching parts' modes are resolved afresh, where a set
         // keeps every one pressing or lets it leave ([`Self::resolve_pushing`]).
+        // The forces the phase starts with (one solve) then give each sticking part's cone
+        // slack and each sliding part's jam event its arming ([`Rules`]).
+        let mut slack = [0.0; super::MAX_PARTS];
+        let mut jam = jam_arming(top);
         if !phase.contacts.flat && phase.contacts.mask(n) != 0 {
             let c = phase.contacts;
-            if pulls(top, &c, y) {
+            let mut dy = [0.0; DIM];
+            let mut f = top.dynamics(&c, y, &mut dy);
+            if pulled(top, &c, &f) {
                 if let Some(r) = self.resolve_pushing(y, c.mask(n), &c, eps) {
                     lifted |= c.mask(n) & !r.mask(n);
                     slid |= c.mask_of(Mode::Roll, n) & r.mask_of(Mode::Slip, n);
                     drilled |= c.mask_of(Mode::Slip, n) & r.mask_of(Mode::Roll, n);
                     phase.contacts = r;
+                    f = top.dynamics(&r, y, &mut dy);
                 }
             }
-        }
-        let mut jam = [[self.jam_level(), 1e2 * top.m * top.g]; super::MAX_PARTS];
-        if (0..n).any(|i| phase.contacts.mode[i] == Mode::Slip) && !phase.contacts.flat {
-            let mut dy = [0.0; DIM];
-            let f = top.dynamics(&phase.contacts, y, &mut dy);
-            for (i, j) in jam.iter_mut().enumerate().take(n) {
-                if phase.contacts.mode[i] == Mode::Slip {
-                    if f.den[i] > 0.0 {
-                        j[0] = j[0].min(0.5 * f.den[i]);
+            // Rounding of a cone margin: of the friction's own scale.
+            let round = 1e-12 * top.friction.mu() * top.m * top.g.max(1e-300);
+            let c = phase.contacts;
+            for i in 0..n {
+                match c.mode[i] {
+                    Mode::Roll if c.drilling & (1 << i) == 0 => {
+                        slack[i] = (-top.stick_margin(&f, i)).max(0.0) + round;
                     }
-                    j[1] = j[1].max(2.0 * f.n[i]);
+                    Mode::Slip => {
+                        if f.den[i] > 0.0 {
+                            jam[i][0] = jam[i][0].min(0.5 * f.den[i]);
+                        }
+                        jam[i][1] = jam[i][1].max(2.0 * f.n[i]);
+                    }
+                    _ => {}
                 }
             }
         }
+        self.slack.set(slack);
         self.jam.set(jam);
         let k = top.kin(y);
         let mut floor = [0.0; super::MAX_PARTS];
@@ -1038,11 +1021,7 @@ impl Rules<'_> {
                 // is tried in turn.
                 // "Stopped": within the tolerance, or no faster than part i is as it stops
                 // (its located measure may exceed the tolerance by the location's error).
-                let measure = {
-                    let k = top.kin(y);
-                    let vp = top.parts.shape[i].point_velocity(k.v, k.w, k.e3);
-                    top.slide_measure(vp, k.w[2])
-                };
+                let measure = top.part_slide(&top.kin(y), i);
                 let eps = self.tolerance(y);
                 if self.creeps(&c, i)
                     && measure > (CREEP_EXIT * eps).max(1e-2 * self.creep_exit(y, eps))
@@ -1064,9 +1043,8 @@ impl Rules<'_> {
                     let mut want = c;
                     let mut tried = 0u8;
                     for j in 0..n {
-                        let vp = top.parts.shape[j].point_velocity(k.v, k.w, k.e3);
                         if c.mode[j] == Mode::Slip
-                            && ((round == 0 && j == i) || top.slide_measure(vp, k.w[2]) <= eps)
+                            && ((round == 0 && j == i) || top.part_slide(&k, j) <= eps)
                         {
                             want.mode[j] = Mode::Roll;
                             tried |= 1 << j;
@@ -1492,10 +1470,21 @@ fn no_energy_from_a_switch(top: &PlayTop, y: &mut [f64; DIM], before: f64) {
     top.shed_energy(y, now - before);
 }
 
+/// The jam event's level of sliding's own coefficient and cap of the normal force, per
+/// part, where a phase starts clear of both ([`Switch::Jam`]): [`PlayTop::jam_level`] and
+/// a hundred weights.
+fn jam_arming(top: &PlayTop) -> [[f64; 2]; super::MAX_PARTS] {
+    [[top.jam_level(), 1e2 * top.m * top.g]; super::MAX_PARTS]
+}
+
 /// Whether `contacts` at `y` have a touching part that the floor pulls by more than [`PULL`].
 fn pulls(top: &PlayTop, contacts: &Contacts, y: &[f64; DIM]) -> bool {
     let mut dy = [0.0; DIM];
-    let f = top.dynamics(contacts, y, &mut dy);
+    pulled(top, contacts, &top.dynamics(contacts, y, &mut dy))
+}
+
+/// Whether the forces `f` of `contacts` pull a touching part by more than [`PULL`].
+fn pulled(top: &PlayTop, contacts: &Contacts, f: &Forces) -> bool {
     (0..top.parts.n).any(|i| contacts.mode[i] != Mode::Flight && f.n[i] < -PULL * top.m * top.g)
 }
 

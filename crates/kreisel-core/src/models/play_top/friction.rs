@@ -3,7 +3,7 @@
 //! slides, the cone (ellipse) a sticking part's force must lie in, and the Painleve case
 //! where sliding has no consistent normal force.
 
-use super::solve::Forces;
+use super::solve::{Forces, Kin};
 use super::{add, scale, Contacts, Mode, PlayTop, DIM};
 use crate::error::{non_negative, Result};
 use crate::rotation::dot;
@@ -206,6 +206,13 @@ impl PlayTop {
     pub fn slide_measure(&self, vp: [f64; 3], wn: f64) -> f64 {
         let rb = self.friction.rbar();
         (vp[0] * vp[0] + vp[1] * vp[1] + rb * rb * wn * wn).sqrt()
+    }
+
+    /// Part `i`'s [`Self::slide_measure`] at the kinematics `k`.
+    #[inline]
+    pub fn part_slide(&self, k: &Kin, i: usize) -> f64 {
+        let vp = self.parts.shape[i].point_velocity(k.v, k.w, k.e3);
+        self.slide_measure(vp, k.w[2])
     }
 
     /// The cone test, the one place it is written: how far a normal force (or impulse) `n`,

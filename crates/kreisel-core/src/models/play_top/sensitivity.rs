@@ -629,12 +629,8 @@ fn slip_from_rest(top: &PlayTop, phase: &Phase, y: &[f64; DIM]) -> Option<usize>
     }
     let k = top.kin(y);
     let level = 1e-6 * top.speed_scale(y);
-    (0..top.parts.n).find(|&i| {
-        phase.contacts.mode[i] == super::Mode::Slip && {
-            let vp = top.parts.shape[i].point_velocity(k.v, k.w, k.e3);
-            top.slide_measure(vp, k.w[2]) < level
-        }
-    })
+    (0..top.parts.n)
+        .find(|&i| phase.contacts.mode[i] == super::Mode::Slip && top.part_slide(&k, i) < level)
 }
 
 /// The error for an event the sensitivities do not cross.

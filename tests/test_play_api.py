@@ -356,33 +356,42 @@ def test_rest_event_of_a_ball_stopped_by_rolling_resistance():
     decelerated by the resistance torque d N: omega' = -a, a = d m g / (I + m rho^2), which
     would stop it at t_stop = t1 + omega1 / a.
 
-    kreisel's torque is the sharp law down to omega = reg = 1e-6 sqrt(g / rho) and linear in
-    omega below (play_top.rs: a sharp switch is stiff), so omega decays as
+    kreisel's torque is the sharp law down to omega = reg and linear in omega below (docs:
+    theory, "Contact thresholds": a sharp switch is stiff), reg = max(1e-6 sqrt(g / rho),
+    d m g tau / I) with tau = 1e-4 sqrt(rho / g) (the ball's reach is rho), here the second.
+    So the slip starts with omega = w_inf (1 - exp(-t / tau)), w_inf = mu rho reg / d, until
+    omega = reg at t_a = -tau ln(1 - d / (mu rho)), then grows at alpha = (mu rho - d) m g / I
+    until v0 - mu g t = rho omega at t1. Rolling, omega decays from omega1 as
     reg exp(-a (t - t_reg) / reg) from t_reg = t1 + (omega1 - reg) / a, and the rest event
     (kinetic energy 1/2 (I + m rho^2) omega^2 below 1e-12 of 1/2 m v0^2, at omega_e) comes at
-    t_reg + (reg / a) ln(reg / omega_e): about 1 microsecond after the sharp law reaches
-    omega_e."""
+    t_reg + (reg / a) ln(reg / omega_e)."""
     m, rho, mu, d, g, v0 = 0.05, 0.02, 0.3, 1e-3, 9.81, 0.1
     inertia = 0.4 * m * rho**2
     pt = kreisel.PlayTop(
         m=m, A=inertia, C=inertia, s=0.0, rho=rho, g=g, friction=kreisel.Coulomb(mu=mu),
         rolling_resistance=d,
     )  # fmt: skip
-    t1_ = v0 / (mu * g + m * g * rho * (mu * rho - d) / inertia)
-    w1 = (mu * rho - d) * m * g * t1_ / inertia
+    tau = 1e-4 * math.sqrt(rho / g)
+    reg = max(1e-6 * math.sqrt(g / rho), d * m * g * tau / inertia)
+    assert reg > 1e-6 * math.sqrt(g / rho)
+    t_a = -tau * math.log(1.0 - d / (mu * rho))
+    alpha = (mu * rho - d) * m * g / inertia
+    t1_ = (v0 - rho * reg + rho * alpha * t_a) / (mu * g + rho * alpha)
+    w1 = (v0 - mu * g * t1_) / rho
     a = d * m * g / (inertia + m * rho**2)
-    t_stop = t1_ + w1 / a
-    reg = 1e-6 * math.sqrt(g / rho)
     w_end = v0 * math.sqrt(1e-12 * m / (inertia + m * rho**2))
     t_rest = t1_ + (w1 - reg) / a + reg / a * math.log(reg / w_end)
+    # the sharp law's stop
+    t1_sharp = v0 / (mu * g + rho * alpha)
+    t_stop = t1_sharp + (mu * rho - d) * m * g * t1_sharp / inertia / a
     traj = kreisel.simulate(pt, pt.state(0.0, vx=v0), 10.0, events=[kreisel.events.rest()])
     names = [e.name for e in traj.events]
     assert names == ["slip_to_roll", "rest"]
-    # the linear part below reg acts only for the 7e-8 s that omega takes to pass reg
-    assert traj.events[0].t == pytest.approx(t1_, abs=2e-8)
+    assert traj.events[0].t == pytest.approx(t1_, abs=2e-9)
     assert traj.events[1].t == pytest.approx(t_rest, abs=1e-7)
-    # and the sharp law's stop: the regularisation moves it by ~1e-6 s, no more
-    assert traj.events[1].t == pytest.approx(t_stop, abs=1.5e-6)
+    # and the sharp law's stop: the linear law's tail moves it by (reg / a) (ln(reg / w_end)
+    # - 1) = 5e-5 s of its 0.3 s, no more
+    assert traj.events[1].t == pytest.approx(t_stop, abs=6e-5)
     assert traj.t[-1] == traj.events[1].t
     ke = traj.energy_translation + traj.energy_rotation
     assert ke[-1] <= 1.01e-12 * ke[0]

@@ -160,6 +160,17 @@ pub const DRILL_EXIT: f64 = 10.0;
 /// Euler's disk's does, and the run stops there with the event `flat`.
 pub const FLAT_LEVEL: f64 = 1e-4;
 
+/// The normal force (in weights `m g`) beyond which a ring part's flat level grows in
+/// proportion to it: a sharp rim that comes down nearly level while G still falls (rolling,
+/// or sliding) needs its contact point to run round the rim ever faster, and the force that
+/// keeps it on the floor grows without bound before the tilt reaches [`FLAT_LEVEL`]; the
+/// steps fell with it (a 40 g top rolling on a rim of 9.7 mm at a tilt of 1.8e-4, G falling at
+/// 0.22 m/s: 250 N and rising, steps of 1e-13 s, the run refused as stalled: floor campaign
+/// case 7829 of seed 1). Such a ring lands flat where its tilt's sine is
+/// `FLAT_LEVEL max(1, N / (FLAT_FORCE m g))`: at 2e-4 if the force reaches 200 weights there.
+/// Euler's disk (benchmark T4) comes down on a force near its weight and is unchanged.
+pub const FLAT_FORCE: f64 = 100.0;
+
 /// The pull (as a share of the weight `m g`) beyond which a touching part's normal force is
 /// taken to have jumped through zero rather than crossed it. A lift-off is located on the far
 /// side of its crossing, within [`crate::integrate::events::ROOT_TOL`] of it in time, where a
@@ -578,9 +589,12 @@ impl Rules<'_> {
                     own
                 }
             }
-            Switch::Flat(_) => {
+            Switch::Flat(i) => {
+                // The level rises in proportion to the part's normal force beyond
+                // FLAT_FORCE weights (continuous; see FLAT_FORCE).
                 let u = top.kin(y).e3[2];
-                (1.0 - u * u).max(0.0).sqrt() - FLAT_LEVEL
+                let over = forces().n[i] / (FLAT_FORCE * top.m * top.g);
+                (1.0 - u * u).max(0.0).sqrt() - FLAT_LEVEL * over.max(1.0)
             }
         }
     }

@@ -52,7 +52,7 @@ fn main() {
         println!("  {:>12} part {:?} t={:.6}", e.name, e.part, e.t);
     }
     println!("  ... {} events", out.info.events.len());
-    let cols = top.columns(&out.rows);
+    let cols = top.columns(&out.rows).unwrap();
     for (i, t) in out.t.iter().enumerate() {
         let e = cols.energy_parts[i];
         println!(

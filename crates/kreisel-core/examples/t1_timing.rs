@@ -36,7 +36,7 @@ fn main() {
         let t0 = Instant::now();
         let out = simulate(&top, &y0, &st, &mut [], &mut |_| true).unwrap();
         let t1 = Instant::now();
-        let c = top.columns(&out.rows);
+        let c = top.columns(&out.rows).unwrap();
         let t2 = Instant::now();
         a = a.min((t1 - t0).as_secs_f64());
         b = b.min((t2 - t1).as_secs_f64());

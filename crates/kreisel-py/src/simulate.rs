@@ -220,8 +220,27 @@ pub(crate) enum Rows {
 
 pub(crate) fn flat<const K: usize>(py: Python<'_>, v: &[[f64; K]]) -> PyResult<Py<PyAny>> {
     let n = v.len();
-    let data: Vec<f64> = v.iter().flat_map(|x| *x).collect();
+    let data = gather(n, K, v.iter().flat_map(|x| *x))?;
     Ok(data.into_pyarray(py).reshape([n, K])?.into_any().unbind())
+}
+
+/// The `rows * per_row` items of `it` in a vector: a `MemoryError` that says what to do,
+/// not an abort, where the process cannot hold it (a long run under a limit on its memory).
+pub(crate) fn gather<T>(
+    rows: usize,
+    per_row: usize,
+    it: impl IntoIterator<Item = T>,
+) -> PyResult<Vec<T>> {
+    let mut v = Vec::new();
+    v.try_reserve_exact(rows * per_row).map_err(|_| {
+        pyo3::exceptions::PyMemoryError::new_err(core::out_of_memory(
+            "a column of the run",
+            rows,
+            per_row * std::mem::size_of::<T>(),
+        ))
+    })?;
+    v.extend(it);
+    Ok(v)
 }
 
 #[pymethods]
@@ -269,7 +288,12 @@ impl PyRun {
                 d.set_item("stuck", c.stuck.into_pyarray(py))?;
             }
             Rows::Play(top, rows) => {
-                let c = py.detach(|| top.columns(rows));
+                let c = py.detach(|| top.columns(rows)).map_err(|e| {
+                    pyo3::exceptions::PyMemoryError::new_err(match e {
+                        kreisel_core::KreiselError::Numerical(m) => m,
+                        e => e.to_string(),
+                    })
+                })?;
                 d.set_item("theta", c.theta.into_pyarray(py))?;
                 d.set_item("phi", c.phi.into_pyarray(py))?;
                 d.set_item("psi", c.psi.into_pyarray(py))?;
@@ -279,30 +303,36 @@ impl PyRun {
                 d.set_item("slip_speed", c.slip_speed.into_pyarray(py))?;
                 d.set_item("normal_force", c.normal_force.into_pyarray(py))?;
                 d.set_item("jellett", c.jellett.into_pyarray(py))?;
-                let part = |i: usize| -> Vec<f64> { c.energy_parts.iter().map(|p| p[i]).collect() };
-                let total: Vec<f64> = c.energy_parts.iter().map(|p| p[0] + p[1] + p[2]).collect();
-                d.set_item("energy_translation", part(0).into_pyarray(py))?;
-                d.set_item("energy_rotation", part(1).into_pyarray(py))?;
-                d.set_item("energy_potential", part(2).into_pyarray(py))?;
+                let n = c.part_in_contact.len();
+                let part = |i: usize| gather(n, 1, c.energy_parts.iter().map(|p| p[i]));
+                let total = gather(n, 1, c.energy_parts.iter().map(|p| p[0] + p[1] + p[2]))?;
+                d.set_item("energy_translation", part(0)?.into_pyarray(py))?;
+                d.set_item("energy_rotation", part(1)?.into_pyarray(py))?;
+                d.set_item("energy_potential", part(2)?.into_pyarray(py))?;
                 d.set_item("energy", total.into_pyarray(py))?;
                 // Per part: the first `parts.n` of each row.
                 let np = top.parts.n;
-                let n = c.part_in_contact.len();
-                let touch: Vec<bool> = c
-                    .part_in_contact
-                    .iter()
-                    .flat_map(|r| r[..np].iter().copied())
-                    .collect();
-                let force: Vec<f64> = c
-                    .part_normal_force
-                    .iter()
-                    .flat_map(|r| r[..np].iter().copied())
-                    .collect();
-                let slip: Vec<f64> = c
-                    .part_slip_velocity
-                    .iter()
-                    .flat_map(|r| r[..np].iter().flat_map(|v| v.iter().copied()))
-                    .collect();
+                let touch = gather(
+                    n,
+                    np,
+                    c.part_in_contact
+                        .iter()
+                        .flat_map(|r| r[..np].iter().copied()),
+                )?;
+                let force = gather(
+                    n,
+                    np,
+                    c.part_normal_force
+                        .iter()
+                        .flat_map(|r| r[..np].iter().copied()),
+                )?;
+                let slip = gather(
+                    n,
+                    2 * np,
+                    c.part_slip_velocity
+                        .iter()
+                        .flat_map(|r| r[..np].iter().flatten().copied()),
+                )?;
                 d.set_item("part_in_contact", touch.into_pyarray(py).reshape([n, np])?)?;
                 d.set_item(
                     "part_normal_force",
@@ -313,21 +343,27 @@ impl PyRun {
                     slip.into_pyarray(py).reshape([n, np, 2])?,
                 )?;
                 // Codes (see `names()["part_modes"]`), converted to names in Python.
-                let state: Vec<u8> = c
-                    .part_state
-                    .iter()
-                    .flat_map(|r| r[..np].iter().map(|s| s.code()))
-                    .collect();
-                let point: Vec<f64> = c
-                    .part_contact_point
-                    .iter()
-                    .flat_map(|r| r[..np].iter().flat_map(|v| v.iter().copied()))
-                    .collect();
-                let friction: Vec<f64> = c
-                    .part_friction_force
-                    .iter()
-                    .flat_map(|r| r[..np].iter().flat_map(|v| v.iter().copied()))
-                    .collect();
+                let state = gather(
+                    n,
+                    np,
+                    c.part_state
+                        .iter()
+                        .flat_map(|r| r[..np].iter().map(|s| s.code())),
+                )?;
+                let point = gather(
+                    n,
+                    3 * np,
+                    c.part_contact_point
+                        .iter()
+                        .flat_map(|r| r[..np].iter().flatten().copied()),
+                )?;
+                let friction = gather(
+                    n,
+                    2 * np,
+                    c.part_friction_force
+                        .iter()
+                        .flat_map(|r| r[..np].iter().flatten().copied()),
+                )?;
                 d.set_item("part_mode", state.into_pyarray(py).reshape([n, np])?)?;
                 d.set_item(
                     "part_contact_point",
@@ -427,27 +463,26 @@ pub(crate) fn put_play(
     rows: Vec<PlayRow>,
     info: &RunInfo,
 ) -> PyResult<()> {
-    let part = |a: usize| -> Vec<f64> {
-        let mut v = Vec::with_capacity(rows.len() * 3);
-        for r in &rows {
-            v.extend_from_slice(&r.y[a..a + 3]);
-        }
-        v
-    };
     let n = rows.len();
-    let q: Vec<[f64; 4]> = rows
-        .iter()
-        .map(|r| [r.y[0], r.y[1], r.y[2], r.y[3]])
-        .collect();
-    d.set_item("quaternion", flat(py, &q)?)?;
-    d.set_item("omega", part(4).into_pyarray(py).reshape([n, 3])?)?;
-    d.set_item("com", part(7).into_pyarray(py).reshape([n, 3])?)?;
-    d.set_item("com_velocity", part(10).into_pyarray(py).reshape([n, 3])?)?;
-    let dissipated: Vec<f64> = rows.iter().map(|r| r.y[13]).collect();
+    let part = |a: usize, k: usize| {
+        gather(
+            n,
+            k,
+            rows.iter().flat_map(|r| r.y[a..a + k].iter().copied()),
+        )
+    };
+    d.set_item("quaternion", part(0, 4)?.into_pyarray(py).reshape([n, 4])?)?;
+    d.set_item("omega", part(4, 3)?.into_pyarray(py).reshape([n, 3])?)?;
+    d.set_item("com", part(7, 3)?.into_pyarray(py).reshape([n, 3])?)?;
+    d.set_item(
+        "com_velocity",
+        part(10, 3)?.into_pyarray(py).reshape([n, 3])?,
+    )?;
+    let dissipated = gather(n, 1, rows.iter().map(|r| r.y[13]))?;
     d.set_item("dissipated", dissipated.into_pyarray(py))?;
     // Codes (see `names()["modes"]`): one array, not a Python string per output.
     // The top's mode from its parts' states (`PlayTop::contact_mode`).
-    let modes: Vec<u8> = rows.iter().map(|r| top.contact_mode(r).code()).collect();
+    let modes = gather(n, 1, rows.iter().map(|r| top.contact_mode(r).code()))?;
     d.set_item("mode", modes.into_pyarray(py))?;
     d.set_item("derived", PlayTop::COLUMN_NAMES.to_vec())?;
     info_into(py, d, info)?;

@@ -577,6 +577,16 @@ impl<'k> Pace<'k> {
     }
 }
 
+/// What a run (or its columns) whose memory ran out while keeping `n` rows of `size` bytes
+/// tells its user.
+pub fn out_of_memory(what: &str, n: usize, size: usize) -> String {
+    format!(
+        "the process ran out of memory keeping {what} ({n} rows, {:.2} GB, could not grow): \
+         pass t_eval to keep rows at chosen times only, or give a shorter t_end",
+        (n * size) as f64 / 1e9
+    )
+}
+
 /// Simulates `model` from `s0`: every row kept.
 pub fn simulate<M: Model>(
     model: &M,
@@ -589,21 +599,37 @@ pub fn simulate<M: Model>(
     let (mut t, mut rows) = (Vec::new(), Vec::new());
     let mut pace = Pace::new(keep_going, settings.t_end);
     let full = std::cell::Cell::new(false);
+    let short = std::cell::Cell::new(false);
     let info = model.run(
         s0,
         settings,
         user,
-        &mut |ti| !full.get() && pace.keep_going(ti),
+        &mut |ti| !full.get() && !short.get() && pace.keep_going(ti),
         &mut |ti, r| {
-            if t.len() < MAX_ROWS {
+            if t.len() >= MAX_ROWS {
+                full.set(true);
+            } else if t.try_reserve(1).is_err() || rows.try_reserve(1).is_err() {
+                // The process's memory (a limit on its address space, or the machine's)
+                // ran out before the budget: refused, not aborted.
+                short.set(true);
+            } else {
                 t.push(ti);
                 rows.push(*r);
-            } else {
-                full.set(true);
             }
         },
     );
     pace.check()?;
+    if short.get() {
+        return Err(KreiselError::invalid(
+            "t_end",
+            settings.t_end,
+            out_of_memory(
+                "the run's rows",
+                t.len(),
+                std::mem::size_of::<M::Row>() + std::mem::size_of::<f64>(),
+            ),
+        ));
+    }
     if full.get() {
         let size = std::mem::size_of::<M::Row>() + std::mem::size_of::<f64>();
         return Err(KreiselError::invalid(

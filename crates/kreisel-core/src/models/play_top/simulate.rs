@@ -231,13 +231,14 @@ impl Model for PlayTop {
         }
     }
 
-    type Columns = PlayColumns;
+    /// An error where the process's memory cannot hold them ([`PlayTop::columns`]).
+    type Columns = Result<PlayColumns>;
 
     fn column_names(&self) -> Vec<&'static str> {
         PlayTop::COLUMN_NAMES.to_vec()
     }
 
-    fn columns(&self, rows: &[PlayRow]) -> PlayColumns {
+    fn columns(&self, rows: &[PlayRow]) -> Result<PlayColumns> {
         PlayTop::columns(self, rows)
     }
 }
@@ -306,8 +307,9 @@ impl PlayTop {
         "part_friction_force",
     ];
 
-    /// The diagnostics of the rows of a play-top run.
-    pub fn columns(&self, rows: &[PlayRow]) -> PlayColumns {
+    /// The diagnostics of the rows of a play-top run: an error (not an abort) where the
+    /// process's memory cannot hold them (about 400 bytes a row).
+    pub fn columns(&self, rows: &[PlayRow]) -> Result<PlayColumns> {
         columns_of(self, rows)
     }
 }
@@ -389,29 +391,40 @@ fn row_of(top: &PlayTop, r: &PlayRow, angles: &mut crate::simulate::Unwrapped) -
 }
 
 /// [`PlayTop::columns`].
-fn columns_of(top: &PlayTop, all: &[PlayRow]) -> PlayColumns {
+fn columns_of(top: &PlayTop, all: &[PlayRow]) -> Result<PlayColumns> {
     use crate::simulate::Unwrapped;
     // Rows in blocks, then the blocks' columns: pushing to ten columns per row costs more
     // than the row's arithmetic, and rows for the whole run would be a large allocation.
     const BLOCK: usize = 128;
     let n = all.len();
+    fn column<T>(n: usize) -> Result<Vec<T>> {
+        let mut v = Vec::new();
+        v.try_reserve_exact(n).map_err(|_| {
+            KreiselError::Numerical(crate::simulate::out_of_memory(
+                "the run's diagnostics columns",
+                n,
+                std::mem::size_of::<Row>(),
+            ))
+        })?;
+        Ok(v)
+    }
     let mut c = PlayColumns {
-        u: Vec::with_capacity(n),
-        theta: Vec::with_capacity(n),
-        phi: Vec::with_capacity(n),
-        psi: Vec::with_capacity(n),
-        contact: Vec::with_capacity(n),
-        slip_velocity: Vec::with_capacity(n),
-        slip_speed: Vec::with_capacity(n),
-        normal_force: Vec::with_capacity(n),
-        jellett: Vec::with_capacity(n),
-        energy_parts: Vec::with_capacity(n),
-        part_in_contact: Vec::with_capacity(n),
-        part_normal_force: Vec::with_capacity(n),
-        part_slip_velocity: Vec::with_capacity(n),
-        part_state: Vec::with_capacity(n),
-        part_contact_point: Vec::with_capacity(n),
-        part_friction_force: Vec::with_capacity(n),
+        u: column(n)?,
+        theta: column(n)?,
+        phi: column(n)?,
+        psi: column(n)?,
+        contact: column(n)?,
+        slip_velocity: column(n)?,
+        slip_speed: column(n)?,
+        normal_force: column(n)?,
+        jellett: column(n)?,
+        energy_parts: column(n)?,
+        part_in_contact: column(n)?,
+        part_normal_force: column(n)?,
+        part_slip_velocity: column(n)?,
+        part_state: column(n)?,
+        part_contact_point: column(n)?,
+        part_friction_force: column(n)?,
     };
     let mut angles = Unwrapped::default();
     let mut rows = [Row::default(); BLOCK];
@@ -443,7 +456,7 @@ fn columns_of(top: &PlayTop, all: &[PlayRow]) -> PlayColumns {
         c.part_friction_force
             .extend(rows.iter().map(|r| r.part_friction_force));
     }
-    c
+    Ok(c)
 }
 
 /// What a batch run keeps of each simulation.

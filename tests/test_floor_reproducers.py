@@ -826,3 +826,30 @@ def test_a_sharp_rim_slapping_down_level_lands_flat():
     total = np.asarray(tr.energy) + np.asarray(tr.dissipated)
     assert np.diff(total).max() <= 1e-9 * total[0]
     assert np.asarray(tr.part_normal_force).min() >= -1e-9 * top.m * G
+
+
+def test_a_top_sticking_on_two_parts_keeps_a_bounded_split_and_no_false_slip():
+    """Floor campaign, seed 1, case 3369: a 3 g top rolling on its sphere and sharp rim, both
+    sticking, the friction forces along the line between them statically indeterminate. Where
+    the needed friction turned through an axis (0.2071 s) the elimination's rounding left the
+    redundant pivot at 9e-14 of the matrix, above the rank test's 1e-13: the system was taken
+    as full rank, the split came out at +-2835 N, and a roll_to_slip was located on that
+    false margin; the rim then slid at a stopped slip beside the sphere's creep and its law's
+    direction chattered for 460 000 steps in 4.4e-5 s (a hang). The needed friction, the same
+    at both parts (the least-norm split), stays inside both cones by a third throughout
+    (|F| / mu N <= 0.7, computed here from the rows): both parts roll to the end."""
+    top = PlayTop(0.0031806774262363503, 2.8421667606604916e-08, 2.768015348396597e-08,
+                  shape=[Sphere(0.005463066509591871, z=0.0019563638786888006),
+                         Torus(0.0068555546008916566, 0.0, z=-0.002029940799566041)],
+                  friction=Coulomb(0.20822491145211564), restitution=0.95)  # fmt: skip
+    st = top.state(theta=1.7723098942330682, psi=0.4888611334855169, vx=0.20970651866922851)
+    tr = kreisel.simulate(top, st, 0.3, events=[kreisel.events.rest()])
+    assert tr.status == "completed" and len(tr.t) < 1000
+    on = tr.t > 0.03
+    assert np.all(tr.part_mode[on] == "rolling")
+    f = np.linalg.norm(tr.part_friction_force[on], axis=2)
+    use = f / (0.20822491145211564 * tr.part_normal_force[on])
+    assert use.max() < 0.7
+    assert [e.name for e in tr.events if e.t > 0.03] == []
+    total = np.asarray(tr.energy) + np.asarray(tr.dissipated)
+    assert np.diff(total).max() <= 1e-9 * total[0]

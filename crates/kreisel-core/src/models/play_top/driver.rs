@@ -547,7 +547,7 @@ impl Rules<'_> {
             Switch::SlipToRoll(i) if self.creeps(&phase.contacts, i) => {
                 let mut stuck = phase.contacts;
                 stuck.mode[i] = Mode::Roll;
-                stuck.creeping = 0;
+                stuck.creeping &= !(1 << i);
                 let mut ys = *y;
                 top.project(&stuck, &mut ys);
                 CREEP_STICK * top.friction.mu() * top.m * top.g - top.creep_margin(&stuck, i, &ys)
@@ -679,8 +679,7 @@ impl Rules<'_> {
     /// law that can stick ([`Contacts::creeping`]); alone on the floor or beside other
     /// parts ([`PlayTop::joint_creep_friction`]).
     pub(crate) fn creeps(&self, c: &Contacts, i: usize) -> bool {
-        c.creeping & (1 << i) != 0
-            && PlayTop::joint_creeper(c, self.top.parts.n) == Some(i)
+        PlayTop::joint_creepers(c, self.top.parts.n) & (1 << i) != 0
             && self.top.friction.can_stick()
     }
 
@@ -849,10 +848,12 @@ impl Rules<'_> {
             }
             phase.contacts.creeping |= slid;
         }
-        // Only a sliding part creeps (a part set sliding here included), one at a time:
-        // the first.
+        // Only a sliding part creeps (a part set sliding here included); several creep
+        // together ([`PlayTop::joint_creep_friction`]).
         let c = phase.contacts;
-        phase.contacts.creeping = (0..n).find(|&i| self.creeps(&c, i)).map_or(0, |i| 1 << i);
+        phase.contacts.creeping = (0..n)
+            .filter(|&i| self.creeps(&c, i))
+            .fold(0, |m, i| m | 1 << i);
         // A creep that starts with its slip (of the order of the stick speed) turned more than
         // 60 degrees away from its direction (a failed stick's round-off slip, pointing
         // anywhere) has that slip put on the direction first, as at the creep's turn
@@ -1082,7 +1083,7 @@ impl Rules<'_> {
                             if let Some(ph) = self.settle_beside(&c, i, phase.hop, y) {
                                 c = ph.contacts;
                             } else {
-                                c.creeping = 1 << i;
+                                c.creeping |= 1 << i;
                                 top.project(&c, y);
                                 self.lift_pullers(&mut c, y);
                             }
@@ -1162,13 +1163,14 @@ impl Rules<'_> {
             Switch::RollToSlip(i) => {
                 let mut dy = [0.0; DIM];
                 c.slide_against(i, &top.dynamics(&c, y, &mut dy));
-                // The part starts to slide from zero slip: it creeps.
-                c.creeping = 1 << i;
+                // The part starts to slide from zero slip: it creeps (beside any others
+                // creeping already).
+                c.creeping |= 1 << i;
                 let f = top.dynamics(&c, y, &mut dy);
                 if f.n[i] < 0.0 {
                     // (A creep with no consistent friction: see PlayTop::creep_friction.)
                     c.mode[i] = Mode::Flight;
-                    c.creeping = 0;
+                    c.creeping &= !(1 << i);
                 }
                 top.project(&c, y);
                 Phase {

@@ -853,3 +853,33 @@ def test_a_top_sticking_on_two_parts_keeps_a_bounded_split_and_no_false_slip():
     assert [e.name for e in tr.events if e.t > 0.03] == []
     total = np.asarray(tr.energy) + np.asarray(tr.dissipated)
     assert np.diff(total).max() <= 1e-9 * total[0]
+
+
+def test_viscous_friction_with_no_consistent_mode_locks_the_slip_before_sliding():
+    """Floor campaign, seed 1, case 8627: a disk-like top under strong viscous friction
+    (2.59 s/m, restitution 0) lands its spheroid at a slip of 0.3 m/s. No mode was consistent
+    even after the viscous jam's impact, and the part was left sliding with the floor pulling
+    (9 N on a 39 g top), its friction feeding the slip from 0.3 to 18 m/s in 2.4 ms until the
+    steps fell below 1e-16 s. Where no mode is consistent the slip is now stopped by the
+    plastic impulse (as for the laws that stick); viscous friction is zero at zero slip, and
+    the part slides on from there, pressed."""
+    from kreisel.shapes import Spheroid
+
+    top = PlayTop(
+        0.038574632419502486, 2.826291856837722e-07, 5.652583713675444e-07,
+        shape=[Sphere(0.0, z=0.020452898074259755),
+               Spheroid(0.00594571945786027, 0.010702192998921407, z=0.00040876497737765347)],
+        friction=Viscous(2.59019592094108), rolling_resistance=0.0010473606549556234,
+    )  # fmt: skip
+    st = top.state(theta=2.3635918302365813, phi=1.0520647220601578, psi=4.720071697351148,
+                   psi_dot=0.5923582714056181, vx=-0.11568138449506772,
+                   vy=-0.02074559736660988, height=0.0)  # fmt: skip
+    _completes_with_bounded_pushing_forces(top, st)
+    tr = kreisel.simulate(top, st, 0.3)
+    down = [e.t for e in tr.events if e.name == "touchdown" and e.part == "part1"]
+    assert len(down) == 1
+    k = np.searchsorted(tr.t, down[0], side="right") - 1  # the row after the touchdown
+    slip = np.hypot(*tr.part_slip_velocity[k, 1].T)
+    assert tr.part_mode[k, 1] == "sliding" and slip < 1e-12
+    # the slip never runs away: the viscous force only takes energy
+    assert np.hypot(tr.part_slip_velocity[:, 1, 0], tr.part_slip_velocity[:, 1, 1]).max() < 0.2

@@ -229,7 +229,7 @@ impl PlayTop {
         }
         let c = match self.resolve_at(y, cand, prev, eps) {
             Some(c) => c,
-            None => self.never_pulling(y, cand),
+            None => self.never_pulling(y, cand, prev, eps),
         };
         (c, true)
     }
@@ -238,11 +238,16 @@ impl PlayTop {
     /// tangential impact: sticking where the law can stick (a sticking contact does no
     /// work, so it adds no energy, though its friction may be outside the cone, and its
     /// normal force may pull, until the motion brings them back), the candidates locked first
-    /// ([`Self::lock`]); else sliding. Sliding with a pulling normal force feeds energy in
-    /// through the friction: a prolate spheroid under Coulomb-Contensou friction landing from
-    /// 1.4 mm gained 7 % of its energy so, and two tops of the floor campaign (cases 6388 and
-    /// 9362 of seed 1) 3e-4 and 6e-4 where sticking would have pulled as well.
-    fn never_pulling(&self, y: &mut [f64; DIM], cand: u8) -> Contacts {
+    /// ([`Self::lock`]). Sliding with a pulling normal force feeds energy in through the
+    /// friction: a prolate spheroid under Coulomb-Contensou friction landing from 1.4 mm
+    /// gained 7 % of its energy so, and two tops of the floor campaign (cases 6388 and 9362
+    /// of seed 1) 3e-4 and 6e-4 where sticking would have pulled as well. Viscous friction
+    /// (which cannot stick) has the candidates locked too: at zero slip its force is zero and
+    /// the modes are resolved afresh there (sliding only where that fails). Its viscous jam
+    /// impact had left a spheroid landing on a disk's rim sliding with a pull of 9 N, its
+    /// friction feeding the slip from 0.3 to 18 m/s in 2.4 ms (`Viscous(2.59)`, the floor
+    /// campaign's case 8627 of seed 1).
+    fn never_pulling(&self, y: &mut [f64; DIM], cand: u8, prev: &Contacts, eps: f64) -> Contacts {
         let n = self.parts.n;
         let with = |mode: Mode| {
             let mut c = Contacts::NONE;
@@ -253,11 +258,12 @@ impl PlayTop {
             }
             c
         };
+        self.lock(y, cand);
         if self.friction.can_stick() {
-            self.lock(y, cand);
             return with(Mode::Roll);
         }
-        with(Mode::Slip)
+        self.resolve_at(y, cand, prev, eps)
+            .unwrap_or_else(|| with(Mode::Slip))
     }
 
     /// Stops the material points of the parts in `set` (bit mask) by plastic impulses, one

@@ -883,3 +883,33 @@ def test_viscous_friction_with_no_consistent_mode_locks_the_slip_before_sliding(
     assert tr.part_mode[k, 1] == "sliding" and slip < 1e-12
     # the slip never runs away: the viscous force only takes energy
     assert np.hypot(tr.part_slip_velocity[:, 1, 0], tr.part_slip_velocity[:, 1, 1]).max() < 0.2
+
+
+def test_a_part_stopped_by_its_landing_that_cannot_stick_creeps_pressed():
+    """Floor campaign, seed 2, case 1707: a 48 g top spinning at 269 rad/s lands on a sharp
+    rim; the impact stops the rim's slip and it cannot stick. Whether it was set creeping
+    turned on the stick tried at the impact pushing or not, at rounding level; where not, the
+    rim slid along the direction it had slid in before, the floor pulling it with 2.71 N for
+    the row after the touchdown (the next row, 4e-11 s later, pushed). A phase that would
+    start pulling, with no set of modes pressing, now lets the parts whose slips are stopped
+    creep (the consistent sliding direction): the rim presses with 0.055 N from the start."""
+    top = PlayTop(
+        0.047555448439458116, 2.250690491625745e-06, 3.6186758901838957e-06,
+        shape=[Sphere(0.0, z=-0.0004474403982521989),
+               Sphere(0.008917967140134962, z=-0.006588773762155707),
+               Torus(0.017880468004991237, 0.0, z=-0.015279304586754356),
+               Torus(0.013282315485098924, 0.0, z=-0.01610508006261467)],
+        friction=Coulomb(0.6520400210047206),
+    )  # fmt: skip
+    st = top.state(theta=1.3947129288236877, psi_dot=-269.35584203133567, height=0.0)
+    tr = kreisel.simulate(top, st, 0.3)
+    assert tr.status == "completed"
+    assert np.asarray(tr.part_normal_force).min() >= -1e-9 * top.m * G
+    total = np.asarray(tr.energy) + np.asarray(tr.dissipated)
+    assert np.diff(total).max() <= 1e-9 * total[0]
+    down = [e.t for e in tr.events if e.name == "touchdown" and e.part == "part2"]
+    assert down
+    after = [np.searchsorted(tr.t, t, side="right") - 1 for t in down]  # rows after them
+    on = [k for k in after if tr.part_mode[k, 2] != "flight"]
+    assert any(abs(tr.t[k] - 0.2325971) < 1e-6 for k in on)
+    assert all(tr.part_normal_force[k, 2] > 0.0 for k in on)

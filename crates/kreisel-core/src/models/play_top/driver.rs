@@ -240,6 +240,10 @@ pub struct Phase {
 ///
 /// `resolved` is the slip the integration resolves, as a share of the speed scale: ten
 /// times its `rtol` (see [`Rules::tolerance`]).
+///
+/// `forced` is a switch a phase's integration ended on without an event function locating
+/// it ([`Rules::integrate`]: a slide held at a few stick speeds), taken by the run as if
+/// located there.
 pub(crate) struct Rules<'a> {
     pub top: &'a PlayTop,
     pub last: RefCell<Solved>,
@@ -247,6 +251,7 @@ pub(crate) struct Rules<'a> {
     pub slack: Cell<[f64; super::MAX_PARTS]>,
     pub jam: Cell<[[f64; 2]; super::MAX_PARTS]>,
     pub resolved: Cell<f64>,
+    pub forced: Cell<Option<Switch>>,
 }
 
 /// The forces of the last right-hand side of a phase (see [`Rules`]), keyed by its time and
@@ -284,6 +289,7 @@ impl<'a> Rules<'a> {
             slack: Cell::new([0.0; super::MAX_PARTS]),
             jam: Cell::new(jam_arming(top)),
             resolved: Cell::new(0.0),
+            forced: Cell::new(None),
         }
     }
 
@@ -1336,6 +1342,22 @@ impl Rules<'_> {
                 // 2.6e5 rejected steps of 1e-14 s there): DOP853 goes on from its last
                 // accepted step, without the test.
                 let (t2, y2) = tracked.last;
+                // A sliding part whose measure is held within the creep's exit range (a few
+                // stick speeds: the law's own equilibrium at the edge of its cone, just above
+                // the speed its slip_to_roll is located at, so the stick and the creep are
+                // never tried) ends the phase there, as at that event: a 1.2 g spheroid under
+                // Coulomb-Contensou friction slid at 3.6 stick speeds, DOP853's steps held at
+                // 1e-9 s by the law's turning, until the run was refused as stalled (the floor
+                // campaign's case 4129 of seed 2).
+                let eps = self.tolerance(&y2);
+                let k = self.top.kin(&y2);
+                let held = (0..self.top.parts.n).find(|&i| {
+                    phase.contacts.mode[i] == Mode::Slip
+                        && phase.contacts.creeping & (1 << i) == 0
+                        && !phase.contacts.flat
+                        && self.top.friction.can_stick()
+                        && self.top.part_slide(&k, i) <= CREEP_EXIT * eps
+                });
                 let done = match &stiff {
                     Ok((_, _, more)) => *more,
                     Err(_) => Stats {
@@ -1343,6 +1365,10 @@ impl Rules<'_> {
                         ..Stats::default()
                     },
                 };
+                if let (Some(i), true) = (held, t2 > t1) {
+                    self.forced.set(Some(Switch::SlipToRoll(i)));
+                    return Ok((t2, y2, st.plus(&done)));
+                }
                 let plain = Dop853 {
                     stiff_stop: None,
                     max_steps: explicit
@@ -1703,6 +1729,17 @@ pub(crate) fn drive(
                 }
                 stopped |= e.terminal;
             }
+        }
+        // A switch the integration ended the phase on, where no event was located.
+        if let Some(sw) = h.forced.take().filter(|_| reason.is_none() && !stopped) {
+            let (name, part) = h.record(sw);
+            reason = Some((sw, info.events.len()));
+            info.events.push(EventRecord {
+                index: None,
+                name: name.into(),
+                t: t1,
+                part,
+            });
         }
         t = t1;
         y = y1;

@@ -243,6 +243,23 @@ pub(crate) fn gather<T>(
     Ok(v)
 }
 
+/// A per-part diagnostics column: `rows` rows of `parts` parts of `width` numbers each, as an
+/// array of shape (rows, parts) or (rows, parts, width) ([`gather`]).
+fn per_part<T: numpy::Element>(
+    py: Python<'_>,
+    rows: usize,
+    parts: usize,
+    width: usize,
+    it: impl IntoIterator<Item = T>,
+) -> PyResult<Py<PyAny>> {
+    let a = gather(rows, parts * width, it)?.into_pyarray(py);
+    Ok(if width == 1 {
+        a.reshape([rows, parts])?.into_any().unbind()
+    } else {
+        a.reshape([rows, parts, width])?.into_any().unbind()
+    })
+}
+
 #[pymethods]
 impl PyRun {
     /// The diagnostics columns of the run's rows. Heavy tops: Euler angles (phi, psi
@@ -312,67 +329,84 @@ impl PyRun {
                 d.set_item("energy", total.into_pyarray(py))?;
                 // Per part: the first `parts.n` of each row.
                 let np = top.parts.n;
-                let touch = gather(
-                    n,
-                    np,
-                    c.part_in_contact
-                        .iter()
-                        .flat_map(|r| r[..np].iter().copied()),
-                )?;
-                let force = gather(
-                    n,
-                    np,
-                    c.part_normal_force
-                        .iter()
-                        .flat_map(|r| r[..np].iter().copied()),
-                )?;
-                let slip = gather(
-                    n,
-                    2 * np,
-                    c.part_slip_velocity
-                        .iter()
-                        .flat_map(|r| r[..np].iter().flatten().copied()),
-                )?;
-                d.set_item("part_in_contact", touch.into_pyarray(py).reshape([n, np])?)?;
-                d.set_item(
-                    "part_normal_force",
-                    force.into_pyarray(py).reshape([n, np])?,
-                )?;
-                d.set_item(
-                    "part_slip_velocity",
-                    slip.into_pyarray(py).reshape([n, np, 2])?,
-                )?;
-                // Codes (see `names()["part_modes"]`), converted to names in Python.
-                let state = gather(
-                    n,
-                    np,
-                    c.part_state
-                        .iter()
-                        .flat_map(|r| r[..np].iter().map(|s| s.code())),
-                )?;
-                let point = gather(
-                    n,
-                    3 * np,
-                    c.part_contact_point
-                        .iter()
-                        .flat_map(|r| r[..np].iter().flatten().copied()),
-                )?;
-                let friction = gather(
-                    n,
-                    2 * np,
-                    c.part_friction_force
-                        .iter()
-                        .flat_map(|r| r[..np].iter().flatten().copied()),
-                )?;
-                d.set_item("part_mode", state.into_pyarray(py).reshape([n, np])?)?;
-                d.set_item(
-                    "part_contact_point",
-                    point.into_pyarray(py).reshape([n, np, 3])?,
-                )?;
-                d.set_item(
-                    "part_friction_force",
-                    friction.into_pyarray(py).reshape([n, np, 2])?,
-                )?;
+                // (part_mode: codes, see `names()["part_modes"]`, converted to names in Python.)
+                let cols = [
+                    (
+                        "part_in_contact",
+                        per_part(
+                            py,
+                            n,
+                            np,
+                            1,
+                            c.part_in_contact
+                                .iter()
+                                .flat_map(|r| r[..np].iter().copied()),
+                        )?,
+                    ),
+                    (
+                        "part_normal_force",
+                        per_part(
+                            py,
+                            n,
+                            np,
+                            1,
+                            c.part_normal_force
+                                .iter()
+                                .flat_map(|r| r[..np].iter().copied()),
+                        )?,
+                    ),
+                    (
+                        "part_slip_velocity",
+                        per_part(
+                            py,
+                            n,
+                            np,
+                            2,
+                            c.part_slip_velocity
+                                .iter()
+                                .flat_map(|r| r[..np].iter().flatten().copied()),
+                        )?,
+                    ),
+                    (
+                        "part_mode",
+                        per_part(
+                            py,
+                            n,
+                            np,
+                            1,
+                            c.part_state
+                                .iter()
+                                .flat_map(|r| r[..np].iter().map(|s| s.code())),
+                        )?,
+                    ),
+                    (
+                        "part_contact_point",
+                        per_part(
+                            py,
+                            n,
+                            np,
+                            3,
+                            c.part_contact_point
+                                .iter()
+                                .flat_map(|r| r[..np].iter().flatten().copied()),
+                        )?,
+                    ),
+                    (
+                        "part_friction_force",
+                        per_part(
+                            py,
+                            n,
+                            np,
+                            2,
+                            c.part_friction_force
+                                .iter()
+                                .flat_map(|r| r[..np].iter().flatten().copied()),
+                        )?,
+                    ),
+                ];
+                for (key, v) in cols {
+                    d.set_item(key, v)?;
+                }
             }
         }
         Ok(d)

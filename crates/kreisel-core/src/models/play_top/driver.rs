@@ -1531,6 +1531,13 @@ fn creep_turn(size: f64, along: f64, eps: f64) -> f64 {
 
 /// The record of a contact event of part `i` at `t` that the engine's rules make at a
 /// switch (not a located event of the settings).
+impl Switch {
+    /// The record of this switch at `t`.
+    pub(crate) fn event(self, t: f64) -> EventRecord {
+        part_event(self.name(), t, self.part())
+    }
+}
+
 fn part_event(name: &'static str, t: f64, i: usize) -> EventRecord {
     EventRecord {
         index: None,
@@ -1587,13 +1594,7 @@ pub(crate) fn drive(
     // Putting the start on its contacts (or its impact at t = 0) keeps E + dissipated too.
     no_energy_from_a_switch(top, &mut y, e_given);
     if let Some(sw) = jam {
-        let (name, part) = h.record(sw);
-        info.events.push(EventRecord {
-            index: None,
-            name: name.into(),
-            t: 0.0,
-            part,
-        });
+        info.events.push(sw.event(0.0));
     }
     let mut t = 0.0;
     let mut next_sample = 0usize;
@@ -1706,15 +1707,9 @@ pub(crate) fn drive(
         let mut reason = None;
         for (idx, te) in hits {
             if let Some(&sw) = switches.get(idx) {
-                let (name, part) = h.record(sw);
                 // The switch's record, kept where it is in case the switch does not happen.
                 reason = Some((sw, info.events.len()));
-                info.events.push(EventRecord {
-                    index: None,
-                    name: name.into(),
-                    t: te,
-                    part,
-                });
+                info.events.push(sw.event(te));
             } else {
                 let i = watched[idx - switches.len()];
                 let e = &settings.events[i];
@@ -1732,14 +1727,8 @@ pub(crate) fn drive(
         }
         // A switch the integration ended the phase on, where no event was located.
         if let Some(sw) = h.forced.take().filter(|_| reason.is_none() && !stopped) {
-            let (name, part) = h.record(sw);
             reason = Some((sw, info.events.len()));
-            info.events.push(EventRecord {
-                index: None,
-                name: name.into(),
-                t: t1,
-                part,
-            });
+            info.events.push(sw.event(t1));
         }
         t = t1;
         y = y1;

@@ -281,9 +281,10 @@ impl PlayTop {
             // resting on a 3 mm spheroid, its spin stopped, did so at 4e7 /s, holding the
             // explicit steps to 1e-7 s (3.6 million rows in 0.3 s: floor campaign case 2330 of
             // seed 2; 6756 and 4814 of seed 1 were refused at 4 million rows).
-            let reg = 1e-6 * (self.g / len).sqrt().max(1e-3);
-            let per_rate =
-                RESIST_TIME * (len / self.g).sqrt() * self.m * self.g / self.a.min(self.c);
+            // (One square root: the top's time scale sqrt(len / g).)
+            let time = (len / self.g).sqrt();
+            let reg = (1e-6 / time).max(1e-9);
+            let per_rate = RESIST_TIME * time * self.m * self.g / self.a.min(self.c);
             per_n = add(
                 scale(-self.rolling / h.max(reg).max(self.rolling * per_rate), wh),
                 scale(

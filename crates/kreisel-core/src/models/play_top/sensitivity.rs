@@ -1087,14 +1087,8 @@ fn run<const N: usize>(
         let mut reason = None;
         for (idx, te) in hits {
             if let Some(&sw) = switches.get(idx) {
-                let (name, part) = h.record(sw);
                 reason = Some((sw, info.events.len()));
-                info.events.push(EventRecord {
-                    index: None,
-                    name: name.into(),
-                    t: te,
-                    part,
-                });
+                info.events.push(sw.event(te));
             }
         }
         t = t1;

@@ -672,9 +672,8 @@ impl PlayTop {
         }
         let each = || (0..n).filter(move |&i| creepers & (1 << i) != 0);
         if creepers.count_ones() == 1 {
-            for i in each() {
-                over[i] = Some(self.joint_creep_friction::<U>(p, c, k, i, res_n, vd0, wd0, over));
-            }
+            let i = creepers.trailing_zeros() as usize;
+            over[i] = Some(self.joint_creep_friction::<U>(p, c, k, i, res_n, vd0, wd0, over));
             return over;
         }
         for i in each() {

@@ -946,3 +946,39 @@ def test_a_slide_held_at_a_few_stick_speeds_is_tried_sticking():
     assert np.asarray(tr.part_normal_force).min() >= -1e-9 * top.m * G
     total = np.asarray(tr.energy) + np.asarray(tr.dissipated)
     assert np.diff(total).max() <= 1e-9 * total[0]
+
+
+def test_a_slide_held_at_a_few_stick_speeds_under_crawling_steps_is_tried_sticking():
+    """Floor campaign, seed 2, case 1314: a 0.34 kg top on a spheroid and a torus under
+    Coulomb-Contensou friction (patch 20 um). From 0.090 s the torus creeps and the
+    spheroid slides at about 1.2 stick speeds (its slip 2.2e-9 m/s: the law's own equilibrium
+    beside the creep, just above the speed its slip_to_roll is located at); the law's
+    direction turned so fast there that Radau IIA went on at steps of about 1e-7 s, 507 696
+    accepted and a million rejected, without crawling by the run's step budget: 510 000
+    rows and 33 s for 0.3 s. Where the mean of 512 steps falls below 1e-4 of the top's time
+    sqrt(reach / g) while a sliding part is held within the creep's exit range, the phase
+    ends as at that part's slip_to_roll, explicit or implicit. The motion's outcome is the
+    same: the brute-force run dissipated 0.1088469829 J by 0.3 s (the slow build, stop 40),
+    and E + dissipated never rises."""
+    from kreisel.shapes import Spheroid
+
+    top = PlayTop(0.3418217203875621, 0.0002042552997302861, 0.00027592134793013353,
+                  shape=[Spheroid(0.008122775322416861, 0.032874302919825585,
+                                  z=0.007223264804116355),
+                         Torus(0.03538893734968474, 0.011230728642101943,
+                               z=-0.011573790769976614)],
+                  friction=CoulombContensou(0.8292878344621943, 1.953298366498696e-05),
+                  restitution=0.7457778177304223,
+                  rolling_resistance=0.0006384446895329508)  # fmt: skip
+    st = top.state(theta=2.0015044176432424, phi=2.9821768750137614,
+                   theta_dot=-0.9883968167492508, psi_dot=-28.858940609963835,
+                   vx=0.03601083495890606, height=1.1290673587565826e-06)  # fmt: skip
+    tr = kreisel.simulate(top, st, 0.3, events=[kreisel.events.rest()])
+    assert tr.status == "completed" and tr.stats["steps"] < 20_000
+    creeps = {e.part for e in tr.events if e.name == "creep"}
+    assert creeps == {"part0", "part1"}
+    assert abs(tr.dissipated[-1] - 0.1088469829) < 1e-6 * tr.dissipated[-1]
+    assert np.asarray(tr.part_normal_force).min() >= -1e-9 * top.m * G
+    assert np.nanmin(np.asarray(tr.part_contact_point)[..., 2]) >= -1e-9
+    total = np.asarray(tr.energy) + np.asarray(tr.dissipated)
+    assert np.diff(total).max() <= 1e-9 * total[0]

@@ -45,46 +45,87 @@ type RawEventFn<'a> = Box<dyn FnMut(f64, &[f64; DIM]) -> f64 + 'a>;
 
 type PhaseResult = std::result::Result<(f64, [f64; DIM], crate::integrate::Stats), IntegrateError>;
 
-/// Every so many accepted implicit steps, [`Tracked`] checks their pace.
+/// Every so many accepted steps, [`Watched`] checks their pace for a held slide.
+const WATCH_EVERY: u64 = 512;
+
+/// Every so many accepted implicit steps, [`Watched`] checks whether they crawl.
 const CRAWL_EVERY: u64 = 1 << 12;
 
-/// An observer that keeps the last accepted step (time, state) and counts the steps: where
-/// to go on from if the integrator fails after them. It stops the integrator where it
-/// crawls: where the pace of its last [`CRAWL_EVERY`] steps would take more than the run's
-/// [`MAX_STEPS`] to reach `t_end` (the run would be refused as stalled).
-struct Tracked<O> {
-    obs: O,
+/// The pace (mean accepted step, in units of the top's time `sqrt(reach / g)`) below which a
+/// sliding part held within the creep's exit range ends its phase ([`Watched`]).
+const HELD_PACE: f64 = 1e-4;
+
+/// An observer of a phase's steps. It keeps the last accepted step (time, state) and counts
+/// the steps: where to go on from if the integrator fails after them. It stops the
+/// integrator
+/// - where, with `crawl`, it crawls: the pace of its last [`CRAWL_EVERY`] steps would take
+///   more than the run's [`MAX_STEPS`] to reach `t_end` (the run would be refused as
+///   stalled);
+/// - where the mean of its last [`WATCH_EVERY`] steps is below `slow` while `held` finds a
+///   sliding part whose sliding measure is held within the creep's exit range: the law's own
+///   equilibrium at the edge of its cone, a few stick speeds up, where the slip's direction
+///   turns at 1e9 /s and the event that would try the stick or the creep is never located
+///   ([`Rules::held_slide`]).
+struct Watched<'a, O, F> {
+    obs: &'a mut O,
+    held: Option<F>,
+    slow: f64,
+    found: Option<usize>,
+    crawl: bool,
+    crawled: bool,
     last: (f64, [f64; DIM]),
     steps: u64,
     t_end: f64,
     mark: f64,
-    crawled: bool,
 }
 
-impl<O> Tracked<O> {
-    fn new(obs: O, t: f64, y: [f64; DIM], t_end: f64) -> Self {
-        Tracked {
+impl<'a, O, F> Watched<'a, O, F> {
+    fn new(
+        obs: &'a mut O,
+        held: Option<F>,
+        slow: f64,
+        t: f64,
+        y: [f64; DIM],
+        t_end: f64,
+        crawl: bool,
+    ) -> Self {
+        Watched {
             obs,
+            held,
+            slow,
+            found: None,
+            crawl,
+            crawled: false,
             last: (t, y),
             steps: 0,
             t_end,
             mark: t,
-            crawled: false,
         }
     }
 }
 
-impl<O: Observer<DIM>> Observer<DIM> for Tracked<O> {
+impl<O: Observer<DIM>, F: Fn(&[f64; DIM]) -> Option<usize>> Observer<DIM> for Watched<'_, O, F> {
     fn step(&mut self, t: f64, y: &[f64; DIM], dense: &dyn Dense<DIM>) -> ControlFlow<()> {
         self.last = (t, *y);
         self.steps += 1;
         let flow = self.obs.step(t, y, dense);
-        if flow.is_continue() && self.steps % CRAWL_EVERY == 0 {
-            let pace = (t - self.mark) / CRAWL_EVERY as f64;
+        if flow.is_continue() && self.steps % WATCH_EVERY == 0 {
+            let pace = (t - self.mark) / WATCH_EVERY as f64;
             self.mark = t;
-            if pace * (MAX_STEPS as f64) < self.t_end - t {
+            if self.crawl
+                && self.steps % CRAWL_EVERY == 0
+                && pace * (MAX_STEPS as f64) < self.t_end - t
+            {
                 self.crawled = true;
                 return ControlFlow::Break(());
+            }
+            if let Some(held) = &self.held {
+                if pace < self.slow {
+                    if let Some(i) = held(y) {
+                        self.found = Some(i);
+                        return ControlFlow::Break(());
+                    }
+                }
             }
         }
         flow
@@ -93,7 +134,11 @@ impl<O: Observer<DIM>> Observer<DIM> for Tracked<O> {
         self.obs.start(t0, y0)
     }
     fn stop_point(&self) -> Option<(f64, [f64; DIM])> {
-        self.obs.stop_point()
+        if self.found.is_some() || self.crawled {
+            None
+        } else {
+            self.obs.stop_point()
+        }
     }
 }
 
@@ -1292,7 +1337,15 @@ impl Rules<'_> {
             stiff_stop: slides.then_some(STIFF_BOUND),
             ..*integrator
         };
-        let (t1, y1, st) = self.explicit(&explicit, phase, kernel, t, y, t_end, obs)?;
+        let slow = HELD_PACE * (self.top.reach() / self.top.g).sqrt();
+        let held = (slides && !phase.contacts.flat && self.top.friction.can_stick())
+            .then_some(|y: &[f64; DIM]| self.held_slide(phase, y));
+        let mut first = Watched::new(obs, held, slow, t, y, t_end, false);
+        let (t1, y1, st) = self.explicit(&explicit, phase, kernel, t, y, t_end, &mut first)?;
+        if let Some(i) = first.found {
+            self.forced.set(Some(Switch::SlipToRoll(i)));
+            return Ok((t1, y1, st));
+        }
         if st.stiff_stops == 0 || t1 >= t_end {
             return Ok((t1, y1, st));
         }
@@ -1308,7 +1361,8 @@ impl Rules<'_> {
                 .max(1),
             ..Radau5::holding_local(integrator.rtol, integrator.atol)
         };
-        let mut tracked = Tracked::new(Resumed(obs), t1, y1, t_end);
+        let mut resumed = Resumed(obs);
+        let mut tracked = Watched::new(&mut resumed, held, slow, t1, y1, t_end, true);
         // One integrator per sliding kernel, each with only that kernel inlined, as for DOP853.
         macro_rules! run {
             ($k:expr, $res:expr) => {
@@ -1330,7 +1384,12 @@ impl Rules<'_> {
             _ => run!(code::OTHER, false),
         };
         match stiff {
-            Ok((t2, y2, more)) if !tracked.crawled => Ok((t2, y2, st.plus(&more))),
+            Ok((t2, y2, more)) if tracked.found.is_some() || !tracked.crawled => {
+                if let Some(i) = tracked.found {
+                    self.forced.set(Some(Switch::SlipToRoll(i)));
+                }
+                Ok((t2, y2, st.plus(&more)))
+            }
             Ok(_)
             | Err(IntegrateError::StepSizeTooSmall { .. } | IntegrateError::NonFinite { .. }) => {
                 // Radau IIA's Newton iteration fails where the right-hand side is not smooth
@@ -1349,15 +1408,6 @@ impl Rules<'_> {
                 // Coulomb-Contensou friction slid at 3.6 stick speeds, DOP853's steps held at
                 // 1e-9 s by the law's turning, until the run was refused as stalled (the floor
                 // campaign's case 4129 of seed 2).
-                let eps = self.tolerance(&y2);
-                let k = self.top.kin(&y2);
-                let held = (0..self.top.parts.n).find(|&i| {
-                    phase.contacts.mode[i] == Mode::Slip
-                        && phase.contacts.creeping & (1 << i) == 0
-                        && !phase.contacts.flat
-                        && self.top.friction.can_stick()
-                        && self.top.part_slide(&k, i) <= CREEP_EXIT * eps
-                });
                 let done = match &stiff {
                     Ok((_, _, more)) => *more,
                     Err(_) => Stats {
@@ -1365,7 +1415,7 @@ impl Rules<'_> {
                         ..Stats::default()
                     },
                 };
-                if let (Some(i), true) = (held, t2 > t1) {
+                if let (Some(i), true) = (held.and_then(|f| f(&y2)), t2 > t1) {
                     self.forced.set(Some(Switch::SlipToRoll(i)));
                     return Ok((t2, y2, st.plus(&done)));
                 }
@@ -1377,19 +1427,29 @@ impl Rules<'_> {
                         .max(1),
                     ..*integrator
                 };
-                let (t3, y3, rest) = self.explicit(
-                    &plain,
-                    phase,
-                    kernel,
-                    t2,
-                    y2,
-                    t_end,
-                    &mut Resumed(tracked.obs.0),
-                )?;
-                Ok((t3, y3, st.plus(&done).plus(&rest)))
+                let mut rest = Watched::new(tracked.obs, held, slow, t2, y2, t_end, false);
+                let (t3, y3, more) =
+                    self.explicit(&plain, phase, kernel, t2, y2, t_end, &mut rest)?;
+                if let Some(i) = rest.found {
+                    self.forced.set(Some(Switch::SlipToRoll(i)));
+                }
+                Ok((t3, y3, st.plus(&done).plus(&more)))
             }
             Err(e) => Err(e),
         }
+    }
+
+    /// A part of `phase` sliding (not creeping) with its sliding measure within the creep's
+    /// exit range, [`CREEP_EXIT`] stick speeds, at `y`: a slide that the run ends as at its
+    /// `slip_to_roll` where the steps crawl there.
+    fn held_slide(&self, phase: &Phase, y: &[f64; DIM]) -> Option<usize> {
+        let eps = self.tolerance(y);
+        let k = self.top.kin(y);
+        (0..self.top.parts.n).find(|&i| {
+            phase.contacts.mode[i] == Mode::Slip
+                && phase.contacts.creeping & (1 << i) == 0
+                && self.top.part_slide(&k, i) <= CREEP_EXIT * eps
+        })
     }
 
     /// The equations of `phase` with the kernel `K` inlined ([`PlayTop::rates_as`]).

@@ -982,3 +982,98 @@ def test_a_slide_held_at_a_few_stick_speeds_under_crawling_steps_is_tried_sticki
     assert np.nanmin(np.asarray(tr.part_contact_point)[..., 2]) >= -1e-9
     total = np.asarray(tr.energy) + np.asarray(tr.dissipated)
     assert np.diff(total).max() <= 1e-9 * total[0]
+
+
+def test_a_creep_turned_back_past_its_range_hands_over_to_the_law():
+    """Floor campaign, seed 3, case 6045: a torus under Coulomb-Contensou friction lands on
+    its side and creeps; at 0.111 s its slip (5e-5 m/s) turns away from the creep's
+    direction. Putting it back on the direction by the dissipative impulse, in the contact's
+    own metric where the patch's drilling is stiff, stretched it to 1.9e-3 m/s, ten times the
+    creep's range (1e-3 mu g / Omega): the creep's end could no longer be located, the slip
+    grew to 0.23 m/s under the creep's friction, and that friction fed in 2.1e-5 J (0.86 % of
+    the energy) by 0.18 s. Now the law takes over there. While the part creeps, its slip
+    stays within the range (bounded here by 1e-3 mu g / |omega|), and E + dissipated never
+    rises."""
+    mu = 0.5799624531242383
+    top = PlayTop(0.006719868428720892, 9.522824591559342e-08, 1.8130440737096498e-07,
+                  shape=[Torus(0.008094910149666982, 0.002407247043309947,
+                               z=-0.0009492515565157336)],
+                  friction=CoulombContensou(mu, 5.985784748686977e-05),
+                  drilling_resistance=4.7493418525089335e-05)  # fmt: skip
+    st = top.state(theta=1.5707963267948966, theta_dot=2.0992616137506777,
+                   psi_dot=0.9232773796208527, vx=-0.061396369842941376,
+                   height=0.02617116199605264)  # fmt: skip
+    tr = kreisel.simulate(top, st, 0.3, events=[kreisel.events.rest()])
+    assert tr.status == "completed"
+    t = np.asarray(tr.t)
+    slip = np.linalg.norm(np.asarray(tr.part_slip_velocity)[:, 0, :], axis=1)
+    omega = np.linalg.norm(np.asarray(tr.omega), axis=1)
+    starts = [e.t for e in tr.events if e.name == "creep"]
+    ends = [e.t for e in tr.events if e.name == "creep_end"]
+    assert starts and len(ends) == len(starts)
+    assert any(abs(t1 - 0.11108) < 1e-4 for t1 in ends)
+    for t0, t1 in zip(starts, ends):
+        inside = (t > t0) & (t < t1)
+        assert np.all(slip[inside] <= 1.001e-3 * mu * G / omega[inside]), (t0, t1)
+    total = np.asarray(tr.energy) + np.asarray(tr.dissipated)
+    assert np.diff(total).max() <= 1e-9 * total[0]
+    assert np.diff(np.asarray(tr.dissipated)).min() >= -1e-12 * total[0]
+
+
+@pytest.mark.parametrize("case", ["two rings, frictionless", "four parts, viscous"])
+def test_bounces_beside_a_touching_part_end_in_contact(case):
+    """Floor campaign, seed 3, cases 1120 and 6383: a top lying on its side bounces on one
+    part while another touches. Whether a bounce is below the cut-off (its rise
+    vn^2 / 2a under the gap's deceleration a) was judged in free flight, where the part
+    seemed to lift off of itself (a <= 0): the bounce was always kept, the contact beside it
+    brought the part back at once, and its rise settled at the touchdown offsets: a
+    touchdown every 2.2e-7 s until the run was refused for chattering (200 000 switches).
+    Judged beside the other parts' contacts, the bounces shrink geometrically to the cut-off
+    (ln(h0 / cut-off) / ln(1 / e^2), a few dozen) and the part stays: no part below the floor
+    by more than 1e-9 m, E + dissipated never rises."""
+    if case == "two rings, frictionless":
+        parts = [
+            Torus(0.025792644415929666, 0.003800874272033871, z=-0.004152483829296356),
+            Torus(0.01707278350521039, 0.0011695161782196463, z=0.024097371377880414),
+        ]
+        top = PlayTop(
+            0.03050055005133018,
+            3.1121549638272346e-06,
+            5.191248387126655e-06,
+            shape=parts,
+            friction=kreisel.Frictionless(),
+            restitution=0.45192565299922416,
+        )
+        st = top.state(
+            theta=1.5707963267948966,
+            phi=5.08999062883632,
+            psi=3.0533094072033333,
+            psi_dot=25.58280437762101,
+        )
+    else:
+        parts = [
+            Torus(0.02910745510503855, 0.0065581029451215, z=0.014941779124794325),
+            Sphere(0.017995092293979692, z=0.028443042088285977),
+            Torus(0.02176144298528489, 0.0, z=-0.01272498517638213),
+            Sphere(0.022782211970470655, z=0.009294022773824753),
+        ]
+        top = PlayTop(
+            0.09158038025249172,
+            1.2191394788886993e-05,
+            1.4300793830365415e-05,
+            shape=parts,
+            friction=Viscous(0.38457296455328716),
+            restitution=0.36056504774828635,
+            rolling_resistance=0.00016107398874983542,
+        )
+        st = top.state(theta=1.5707963267948966, phi=5.475668842669865,
+                       phi_dot=-16.425286392203425, psi_dot=158.52011785039355)  # fmt: skip
+    tr = kreisel.simulate(top, st, 0.3, events=[kreisel.events.rest()])
+    assert tr.status == "completed"
+    touchdowns = [e for e in tr.events if e.name == "touchdown"]
+    assert 0 < len(touchdowns) < 100
+    in_contact = [name for name, m in tr.part_modes.items() if m[-1] != "flight"]
+    assert len(in_contact) >= 2
+    assert part_gaps(parts, tr).min() >= -1e-9
+    total = np.asarray(tr.energy) + np.asarray(tr.dissipated)
+    assert np.diff(total).max() <= 1e-9 * total[0]

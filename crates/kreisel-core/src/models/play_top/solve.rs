@@ -1761,10 +1761,15 @@ impl PlayTop {
         f
     }
 
-    /// The gap's acceleration of part `i` in free flight (no contact force) at `y`.
-    pub fn free_gap_acceleration(&self, i: usize, y: &[f64; DIM]) -> f64 {
+    /// The gap's acceleration of part `i` at `y`, off the floor beside the other parts'
+    /// contacts as `c` has them (in free flight where none touches).
+    pub fn gap_acceleration_beside(&self, i: usize, y: &[f64; DIM], c: &Contacts) -> f64 {
+        let mut others = *c;
+        others.mode[i] = Mode::Flight;
+        others.creeping &= !(1 << i);
+        others.drilling &= !(1 << i);
         let mut dy = [0.0; DIM];
-        self.dynamics(&Contacts::NONE, y, &mut dy);
+        self.dynamics(&others, y, &mut dy);
         self.gap_acceleration(i, y, &dy)
     }
 }

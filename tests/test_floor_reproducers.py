@@ -1077,3 +1077,38 @@ def test_bounces_beside_a_touching_part_end_in_contact(case):
     assert part_gaps(parts, tr).min() >= -1e-9
     total = np.asarray(tr.energy) + np.asarray(tr.dissipated)
     assert np.diff(total).max() <= 1e-9 * total[0]
+
+
+def test_a_creep_whose_steps_crawl_hands_the_part_to_its_law():
+    """Floor campaign, seed 3, case 3877: a 2.2 g top upside down on a spheroid (sliding)
+    and a sphere (creeping) under point Coulomb friction. The creep's friction comes from
+    the consistency of the contact, which beside the sliding part had two roots, 35 degrees
+    apart; the solve jumped between them at every step, the steps fell to 4e-11 s and the run
+    was refused as stalled at 0.2358 s (1.4e9 steps to go). Where the mean of 512 steps falls
+    below 1e-4 of the top's time sqrt(reach / g) while a part creeps, the creep ends and the
+    part slides under its law: a few such hand-overs within 30 us, then the sphere slides on,
+    its slip growing (to about 0.08 m/s by 0.3 s), with every property of the floor held."""
+    from kreisel.shapes import Spheroid
+
+    parts = [Torus(0.007777386965337658, 0.0019637084342658253, z=0.004214973613641105),
+             Spheroid(0.00835939411536529, 0.004352513360407701, z=0.005584110856694667),
+             Sphere(0.004102335695271579, z=0.008048820708908432),
+             Sphere(0.0055987715253564465, z=0.0032483333757368123)]  # fmt: skip
+    top = PlayTop(0.0022088105376754374, 3.766759234898705e-08, 6.252698307116479e-08,
+                  shape=parts, friction=Coulomb(0.31767463885626546),
+                  restitution=0.2990899367892805)  # fmt: skip
+    st = PlayState(quaternion=np.array([0.09455247663326843, 0.9435435226770065,
+                                        0.3119873205498936, 0.058731267591279446]),
+                   omega=np.array([2.9587479267981798, 0.0, 80.34673532007892]),
+                   com=np.array([0.0, 0.0, 0.011951714150562082]),
+                   com_velocity=np.array([0.0, 0.0, 0.0]))  # fmt: skip
+    tr = kreisel.simulate(top, st, 0.3, events=[kreisel.events.rest()])
+    assert tr.status == "completed" and tr.stats["steps"] < 50_000
+    late = [e for e in tr.events if e.t > 0.2358]
+    assert 0 < len(late) < 100
+    assert late[-1].name == "creep_end"
+    assert tr.part_modes["part2"][-1] == "sliding"
+    assert part_gaps([p for p in parts if isinstance(p, Sphere)], tr).min() >= -1e-9
+    assert np.asarray(tr.part_normal_force).min() >= -1e-9 * top.m * G
+    total = np.asarray(tr.energy) + np.asarray(tr.dissipated)
+    assert np.diff(total).max() <= 1e-9 * total[0]

@@ -62,15 +62,15 @@ const HELD_PACE: f64 = 1e-4;
 ///   more than the run's [`MAX_STEPS`] to reach `t_end` (the run would be refused as
 ///   stalled);
 /// - where the mean of its last [`WATCH_EVERY`] steps is below `slow` while `held` finds a
-///   sliding part whose sliding measure is held within the creep's exit range: the law's own
-///   equilibrium at the edge of its cone, a few stick speeds up, where the slip's direction
-///   turns at 1e9 /s and the event that would try the stick or the creep is never located
-///   ([`Rules::held_slide`]).
+///   switch to end the phase on ([`Rules::held_switch`]): a sliding part whose sliding
+///   measure is held within the creep's exit range (the law's own equilibrium at the edge of
+///   its cone, a few stick speeds up, where the slip's direction turns at 1e9 /s and the
+///   event that would try the stick or the creep is never located), or a creeping part.
 struct Watched<'a, O, F> {
     obs: &'a mut O,
     held: Option<F>,
     slow: f64,
-    found: Option<usize>,
+    found: Option<Switch>,
     crawl: bool,
     crawled: bool,
     last: (f64, [f64; DIM]),
@@ -104,7 +104,7 @@ impl<'a, O, F> Watched<'a, O, F> {
     }
 }
 
-impl<O: Observer<DIM>, F: Fn(&[f64; DIM]) -> Option<usize>> Observer<DIM> for Watched<'_, O, F> {
+impl<O: Observer<DIM>, F: Fn(&[f64; DIM]) -> Option<Switch>> Observer<DIM> for Watched<'_, O, F> {
     fn step(&mut self, t: f64, y: &[f64; DIM], dense: &dyn Dense<DIM>) -> ControlFlow<()> {
         self.last = (t, *y);
         self.steps += 1;
@@ -121,8 +121,8 @@ impl<O: Observer<DIM>, F: Fn(&[f64; DIM]) -> Option<usize>> Observer<DIM> for Wa
             }
             if let Some(held) = &self.held {
                 if pace < self.slow {
-                    if let Some(i) = held(y) {
-                        self.found = Some(i);
+                    if let Some(sw) = held(y) {
+                        self.found = Some(sw);
                         return ControlFlow::Break(());
                     }
                 }
@@ -297,6 +297,9 @@ pub(crate) struct Rules<'a> {
     pub jam: Cell<[[f64; 2]; super::MAX_PARTS]>,
     pub resolved: Cell<f64>,
     pub forced: Cell<Option<Switch>>,
+    /// The forced switch is a creep's end that hands the part to its law (not the turn
+    /// that puts the slip back on the creep's direction).
+    pub release: Cell<bool>,
 }
 
 /// The forces of the last right-hand side of a phase (see [`Rules`]), keyed by its time and
@@ -335,6 +338,7 @@ impl<'a> Rules<'a> {
             jam: Cell::new(jam_arming(top)),
             resolved: Cell::new(0.0),
             forced: Cell::new(None),
+            release: Cell::new(false),
         }
     }
 
@@ -1246,13 +1250,14 @@ impl Rules<'_> {
                 }
             }
             Switch::CreepEnd(i) => {
+                let release = self.release.replace(false);
                 // Beside others: the parts nearly stopped are tried sticking together first
                 // (the others' law may turn the creep's slip at every step).
                 if let Some(ph) = self.settle_beside(&c, i, phase.hop, y) {
                     return ph;
                 }
                 let (size, _) = top.creep_slip(&c, i, y);
-                if size < 0.5 * self.creep_exit(y, self.tolerance(y)) {
+                if !release && size < 0.5 * self.creep_exit(y, self.tolerance(y)) {
                     // The slip turned away from the creep's direction: its component across
                     // it is damped at once, as the law would in a time of |slip| / (mu g),
                     // and the part creeps on (unless the slip kept lies past its range).
@@ -1358,11 +1363,11 @@ impl Rules<'_> {
         };
         let slow = HELD_PACE * (self.top.reach() / self.top.g).sqrt();
         let held = (slides && !phase.contacts.flat && self.top.friction.can_stick())
-            .then_some(|y: &[f64; DIM]| self.held_slide(phase, y));
+            .then_some(|y: &[f64; DIM]| self.held_switch(phase, y));
         let mut first = Watched::new(obs, held, slow, t, y, t_end, false);
         let (t1, y1, st) = self.explicit(&explicit, phase, kernel, t, y, t_end, &mut first)?;
-        if let Some(i) = first.found {
-            self.forced.set(Some(Switch::SlipToRoll(i)));
+        if let Some(sw) = first.found {
+            self.force(sw);
             return Ok((t1, y1, st));
         }
         if st.stiff_stops == 0 || t1 >= t_end {
@@ -1404,8 +1409,8 @@ impl Rules<'_> {
         };
         match stiff {
             Ok((t2, y2, more)) if tracked.found.is_some() || !tracked.crawled => {
-                if let Some(i) = tracked.found {
-                    self.forced.set(Some(Switch::SlipToRoll(i)));
+                if let Some(sw) = tracked.found {
+                    self.force(sw);
                 }
                 Ok((t2, y2, st.plus(&more)))
             }
@@ -1434,8 +1439,8 @@ impl Rules<'_> {
                         ..Stats::default()
                     },
                 };
-                if let (Some(i), true) = (held.and_then(|f| f(&y2)), t2 > t1) {
-                    self.forced.set(Some(Switch::SlipToRoll(i)));
+                if let (Some(sw), true) = (held.and_then(|f| f(&y2)), t2 > t1) {
+                    self.force(sw);
                     return Ok((t2, y2, st.plus(&done)));
                 }
                 let plain = Dop853 {
@@ -1449,8 +1454,8 @@ impl Rules<'_> {
                 let mut rest = Watched::new(tracked.obs, held, slow, t2, y2, t_end, false);
                 let (t3, y3, more) =
                     self.explicit(&plain, phase, kernel, t2, y2, t_end, &mut rest)?;
-                if let Some(i) = rest.found {
-                    self.forced.set(Some(Switch::SlipToRoll(i)));
+                if let Some(sw) = rest.found {
+                    self.force(sw);
                 }
                 Ok((t3, y3, st.plus(&done).plus(&more)))
             }
@@ -1458,17 +1463,37 @@ impl Rules<'_> {
         }
     }
 
-    /// A part of `phase` sliding (not creeping) with its sliding measure within the creep's
-    /// exit range, [`CREEP_EXIT`] stick speeds, at `y`: a slide that the run ends as at its
-    /// `slip_to_roll` where the steps crawl there.
-    fn held_slide(&self, phase: &Phase, y: &[f64; DIM]) -> Option<usize> {
+    /// The switch that ends `phase` at `y` where its steps crawl: the `slip_to_roll` of a
+    /// part sliding (not creeping) with its sliding measure within the creep's exit range,
+    /// [`CREEP_EXIT`] stick speeds; else the end of a creep, which hands the part to its
+    /// law. A creep takes its friction's direction from the consistency of the contact,
+    /// which beside a sliding part can have two roots; a 2.2 g top on a spheroid sliding
+    /// and a sphere creeping under point Coulomb friction had its creep's friction jump
+    /// between them (35 degrees apart) at every step, steps of 4e-11 s, until the run was
+    /// refused as stalled (the floor campaign's case 3877 of seed 3).
+    fn held_switch(&self, phase: &Phase, y: &[f64; DIM]) -> Option<Switch> {
         let eps = self.tolerance(y);
         let k = self.top.kin(y);
-        (0..self.top.parts.n).find(|&i| {
-            phase.contacts.mode[i] == Mode::Slip
-                && phase.contacts.creeping & (1 << i) == 0
-                && self.top.part_slide(&k, i) <= CREEP_EXIT * eps
-        })
+        let c = &phase.contacts;
+        let sliding = |i: usize| c.mode[i] == Mode::Slip;
+        (0..self.top.parts.n)
+            .find(|&i| {
+                sliding(i)
+                    && c.creeping & (1 << i) == 0
+                    && self.top.part_slide(&k, i) <= CREEP_EXIT * eps
+            })
+            .map(Switch::SlipToRoll)
+            .or_else(|| {
+                (0..self.top.parts.n)
+                    .find(|&i| sliding(i) && self.creeps(c, i))
+                    .map(Switch::CreepEnd)
+            })
+    }
+
+    /// Ends the phase integrated on `sw` as if located ([`Self::held_switch`]).
+    fn force(&self, sw: Switch) {
+        self.release.set(matches!(sw, Switch::CreepEnd(_)));
+        self.forced.set(Some(sw));
     }
 
     /// The equations of `phase` with the kernel `K` inlined ([`PlayTop::rates_as`]).
@@ -1820,7 +1845,10 @@ pub(crate) fn drive(
             }
         }
         // A switch the integration ended the phase on, where no event was located.
+        // (A forced creep's end releases the part to its law only when it is the switch.)
+        let release = h.release.replace(false);
         if let Some(sw) = h.forced.take().filter(|_| reason.is_none() && !stopped) {
+            h.release.set(release);
             reason = Some((sw, info.events.len()));
             info.events.push(sw.event(t1));
         }

@@ -1112,3 +1112,37 @@ def test_a_creep_whose_steps_crawl_hands_the_part_to_its_law():
     assert np.asarray(tr.part_normal_force).min() >= -1e-9 * top.m * G
     total = np.asarray(tr.energy) + np.asarray(tr.dissipated)
     assert np.diff(total).max() <= 1e-9 * total[0]
+
+
+def test_a_slide_held_just_above_the_stick_speed_while_its_patch_drills_rolls_on_drilling():
+    """Floor campaign, seed 5, case 1858: a 13 g top upside down lands on a sphere under
+    Coulomb-Contensou friction (patch 27 um) and slides; its slip falls to 1.6e-9 m/s, the
+    law's own equilibrium with the patch drilling at about 5e-8 m/s, just above the stick
+    speed at which slip_to_roll (here: rolling on drilling) is located, and the slip the
+    drilling's friction needs was just above the stick speed too, so the drilling was never
+    taken. The law's relaxation there held the steps at 2e-9 s until the run was refused as
+    stalled at 2.4 ms. Where steps crawl so with the slip within the drilling's exit range,
+    the part drills where the slip its friction needs is within that range (ten stick
+    speeds; the range the drilling leaves at), then sticks when the drilling ends."""
+    from kreisel.shapes import Spheroid
+
+    top = PlayTop(0.013259887266497756, 6.001595021484339e-07, 1.2003190042968678e-06,
+                  shape=[Spheroid(0.00982124214743506, 0.013425797940471286,
+                                  z=-0.001110223134330554),
+                         Sphere(0.01844846199045571, z=0.03761222376870198),
+                         Torus(0.017253492258302652, 0.0, z=0.017615547175399798)],
+                  friction=CoulombContensou(0.9886536895139083,
+                                            2.7433367152035696e-05))  # fmt: skip
+    st = PlayState(quaternion=np.array([0.11570755860733511, 0.9932833235694286, 0.0, 0.0]),
+                   omega=np.array([2.533218631502596, 0.0, 0.0]),
+                   com=np.array([0.0, 0.0, 0.05505356286794203]),
+                   com_velocity=np.array([0.0010085751777352467, 0.028668570565415247,
+                                          0.0]))  # fmt: skip
+    tr = kreisel.simulate(top, st, 0.3, events=[kreisel.events.rest()])
+    assert tr.status == "completed" and tr.stats["steps"] < 20_000
+    first = [(e.name, e.part) for e in tr.events[:3]]
+    assert first == [("touchdown", "part1"), ("slip_to_roll", "part1"), ("drill_end", "part1")]
+    assert 0.0020 < tr.events[1].t < 0.0023
+    assert np.asarray(tr.part_normal_force).min() >= -1e-9 * top.m * G
+    total = np.asarray(tr.energy) + np.asarray(tr.dissipated)
+    assert np.diff(total).max() <= 1e-9 * total[0]

@@ -297,8 +297,9 @@ pub(crate) struct Rules<'a> {
     pub jam: Cell<[[f64; 2]; super::MAX_PARTS]>,
     pub resolved: Cell<f64>,
     pub forced: Cell<Option<Switch>>,
-    /// The forced switch is a creep's end that hands the part to its law (not the turn
-    /// that puts the slip back on the creep's direction).
+    /// The forced switch ends a held motion: a creep's end that hands the part to its law
+    /// (not the turn that puts the slip back on the creep's direction), or a slide held
+    /// within the drilling's exit range that starts to drill.
     pub release: Cell<bool>,
 }
 
@@ -773,7 +774,16 @@ impl Rules<'_> {
     /// drilling: taken (the state put on the contact, its slip zeroed) where it drills
     /// faster than the stick speed `eps` (`rbar |w_n| > eps`), the part then pushes and the
     /// slip its friction needs is at most `eps`.
-    fn try_drill(&self, c: &mut Contacts, i: usize, y: &mut [f64; DIM], eps: f64) -> bool {
+    /// `limit` (m/s) bounds the slip needed: the stick speed, or [`DRILL_EXIT`] of them for
+    /// a slide held within that range ([`Rules::held_switch`]).
+    fn try_drill(
+        &self,
+        c: &mut Contacts,
+        i: usize,
+        y: &mut [f64; DIM],
+        eps: f64,
+        limit: f64,
+    ) -> bool {
         let top = self.top;
         if top.friction.rbar() * top.kin(y).w[2].abs() <= eps {
             return false;
@@ -788,7 +798,7 @@ impl Rules<'_> {
         let f = top.dynamics(&want, &ys, &mut dy);
         let (x, frac) = top.drill_share(f.ft[i], f.n[i]);
         let wn = top.kin(&ys).w[2].abs();
-        let ok = f.n[i] > 0.0 && top.friction.rbar() * wn * x <= eps * frac;
+        let ok = f.n[i] > 0.0 && top.friction.rbar() * wn * x <= limit * frac;
         if ok {
             *c = want;
             *y = ys;
@@ -931,7 +941,7 @@ impl Rules<'_> {
         if let Some(i) = (0..n).find(|&i| self.may_drill(&phase.contacts, i)) {
             let k = top.kin(y);
             let vp = top.parts.shape[i].point_velocity(k.v, k.w, k.e3);
-            if vp[0].hypot(vp[1]) <= eps && self.try_drill(&mut phase.contacts, i, y, eps) {
+            if vp[0].hypot(vp[1]) <= eps && self.try_drill(&mut phase.contacts, i, y, eps, eps) {
                 drilled = 1 << i;
             }
         }
@@ -1215,11 +1225,18 @@ impl Rules<'_> {
             }
             Switch::SlipToDrill(i) => {
                 let eps = self.tolerance(y);
+                // (A slide held within the drilling's exit range drills where the slip its
+                // friction needs is within that range.)
+                let limit = if self.release.replace(false) {
+                    DRILL_EXIT * eps
+                } else {
+                    eps
+                };
                 if top.friction.rbar() * top.kin(y).w[2].abs() <= eps {
                     // The drilling has stopped too: the part sticks.
                     return self.apply(Switch::SlipToRoll(i), phase, y);
                 }
-                if !self.try_drill(&mut c, i, y, eps) {
+                if !self.try_drill(&mut c, i, y, eps, limit) {
                     top.project(&c, y);
                 }
                 Phase {
@@ -1484,6 +1501,22 @@ impl Rules<'_> {
             })
             .map(Switch::SlipToRoll)
             .or_else(|| {
+                // A patch that still drills, its slip held within that range: it rolls on
+                // drilling where the slip its friction needs is within the drilling's exit
+                // range (a 13 g top landing on a sphere under Coulomb-Contensou friction
+                // slid on at 1.6e-9 m/s, the law's equilibrium just above the stick speed at
+                // which that switch is located, its patch drilling at 5e-8 m/s; steps of
+                // 2e-9 s until refused as stalled: the floor campaign's case 1858 of seed 5).
+                (0..self.top.parts.n)
+                    .find(|&i| {
+                        self.may_drill(c, i) && {
+                            let vp = self.top.parts.shape[i].point_velocity(k.v, k.w, k.e3);
+                            vp[0].hypot(vp[1]) <= CREEP_EXIT * eps
+                        }
+                    })
+                    .map(Switch::SlipToDrill)
+            })
+            .or_else(|| {
                 (0..self.top.parts.n)
                     .find(|&i| sliding(i) && self.creeps(c, i))
                     .map(Switch::CreepEnd)
@@ -1492,7 +1525,8 @@ impl Rules<'_> {
 
     /// Ends the phase integrated on `sw` as if located ([`Self::held_switch`]).
     fn force(&self, sw: Switch) {
-        self.release.set(matches!(sw, Switch::CreepEnd(_)));
+        self.release
+            .set(matches!(sw, Switch::CreepEnd(_) | Switch::SlipToDrill(_)));
         self.forced.set(Some(sw));
     }
 

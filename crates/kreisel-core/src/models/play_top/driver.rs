@@ -5,7 +5,7 @@
 
 use super::simulate::PlayRow;
 use super::solve::{code, Consts, Kernel};
-use super::{Contacts, Forces, Mode, PlayTop, Shape, DIM};
+use super::{Contacts, Forces, Mode, PlayTop, Shape, DIM, MAX_PARTS};
 use crate::error::{KreiselError, Result};
 use crate::integrate::{
     Dense, Dop853, EventSpec, IntegrateError, Locator, Observer, OdeSystem, Radau5, Resumed, Stats,
@@ -77,6 +77,7 @@ struct Watched<'a, O, F> {
     steps: u64,
     t_end: f64,
     mark: f64,
+    crawl_mark: f64,
 }
 
 impl<'a, O, F> Watched<'a, O, F> {
@@ -100,6 +101,7 @@ impl<'a, O, F> Watched<'a, O, F> {
             steps: 0,
             t_end,
             mark: t,
+            crawl_mark: t,
         }
     }
 }
@@ -112,12 +114,13 @@ impl<O: Observer<DIM>, F: Fn(&[f64; DIM]) -> Option<Switch>> Observer<DIM> for W
         if flow.is_continue() && self.steps % WATCH_EVERY == 0 {
             let pace = (t - self.mark) / WATCH_EVERY as f64;
             self.mark = t;
-            if self.crawl
-                && self.steps % CRAWL_EVERY == 0
-                && pace * (MAX_STEPS as f64) < self.t_end - t
-            {
-                self.crawled = true;
-                return ControlFlow::Break(());
+            if self.crawl && self.steps % CRAWL_EVERY == 0 {
+                let crawl_pace = (t - self.crawl_mark) / CRAWL_EVERY as f64;
+                self.crawl_mark = t;
+                if crawl_pace * (MAX_STEPS as f64) < self.t_end - t {
+                    self.crawled = true;
+                    return ControlFlow::Break(());
+                }
             }
             if let Some(held) = &self.held {
                 if pace < self.slow {
@@ -297,10 +300,11 @@ pub(crate) struct Rules<'a> {
     pub jam: Cell<[[f64; 2]; super::MAX_PARTS]>,
     pub resolved: Cell<f64>,
     pub forced: Cell<Option<Switch>>,
-    /// The forced switch ends a held motion: a creep's end that hands the part to its law
-    /// (not the turn that puts the slip back on the creep's direction), or a slide held
-    /// within the drilling's exit range that starts to drill.
-    pub release: Cell<bool>,
+    /// The switch being applied is `forced` (a held motion, not a located event): a creep's
+    /// end then hands the part to its law (not the turn that puts the slip back on the
+    /// creep's direction), and a slide held within the drilling's exit range starts to
+    /// drill. Set by the run around the switch's [`Rules::apply`].
+    pub unlocated: Cell<bool>,
 }
 
 /// The forces of the last right-hand side of a phase (see [`Rules`]), keyed by its time and
@@ -339,7 +343,7 @@ impl<'a> Rules<'a> {
             jam: Cell::new(jam_arming(top)),
             resolved: Cell::new(0.0),
             forced: Cell::new(None),
-            release: Cell::new(false),
+            unlocated: Cell::new(false),
         }
     }
 
@@ -1227,7 +1231,7 @@ impl Rules<'_> {
                 let eps = self.tolerance(y);
                 // (A slide held within the drilling's exit range drills where the slip its
                 // friction needs is within that range.)
-                let limit = if self.release.replace(false) {
+                let limit = if self.unlocated.get() {
                     DRILL_EXIT * eps
                 } else {
                     eps
@@ -1267,14 +1271,13 @@ impl Rules<'_> {
                 }
             }
             Switch::CreepEnd(i) => {
-                let release = self.release.replace(false);
                 // Beside others: the parts nearly stopped are tried sticking together first
                 // (the others' law may turn the creep's slip at every step).
                 if let Some(ph) = self.settle_beside(&c, i, phase.hop, y) {
                     return ph;
                 }
                 let (size, _) = top.creep_slip(&c, i, y);
-                if !release && size < 0.5 * self.creep_exit(y, self.tolerance(y)) {
+                if !self.unlocated.get() && size < 0.5 * self.creep_exit(y, self.tolerance(y)) {
                     // The slip turned away from the creep's direction: its component across
                     // it is damped at once, as the law would in a time of |slip| / (mu g),
                     // and the part creeps on (unless the slip kept lies past its range).
@@ -1384,7 +1387,7 @@ impl Rules<'_> {
         let mut first = Watched::new(obs, held, slow, t, y, t_end, false);
         let (t1, y1, st) = self.explicit(&explicit, phase, kernel, t, y, t_end, &mut first)?;
         if let Some(sw) = first.found {
-            self.force(sw);
+            self.forced.set(Some(sw));
             return Ok((t1, y1, st));
         }
         if st.stiff_stops == 0 || t1 >= t_end {
@@ -1427,7 +1430,7 @@ impl Rules<'_> {
         match stiff {
             Ok((t2, y2, more)) if tracked.found.is_some() || !tracked.crawled => {
                 if let Some(sw) = tracked.found {
-                    self.force(sw);
+                    self.forced.set(Some(sw));
                 }
                 Ok((t2, y2, st.plus(&more)))
             }
@@ -1457,7 +1460,7 @@ impl Rules<'_> {
                     },
                 };
                 if let (Some(sw), true) = (held.and_then(|f| f(&y2)), t2 > t1) {
-                    self.force(sw);
+                    self.forced.set(Some(sw));
                     return Ok((t2, y2, st.plus(&done)));
                 }
                 let plain = Dop853 {
@@ -1472,7 +1475,7 @@ impl Rules<'_> {
                 let (t3, y3, more) =
                     self.explicit(&plain, phase, kernel, t2, y2, t_end, &mut rest)?;
                 if let Some(sw) = rest.found {
-                    self.force(sw);
+                    self.forced.set(Some(sw));
                 }
                 Ok((t3, y3, st.plus(&done).plus(&more)))
             }
@@ -1521,13 +1524,6 @@ impl Rules<'_> {
                     .find(|&i| sliding(i) && self.creeps(c, i))
                     .map(Switch::CreepEnd)
             })
-    }
-
-    /// Ends the phase integrated on `sw` as if located ([`Self::held_switch`]).
-    fn force(&self, sw: Switch) {
-        self.release
-            .set(matches!(sw, Switch::CreepEnd(_) | Switch::SlipToDrill(_)));
-        self.forced.set(Some(sw));
     }
 
     /// The equations of `phase` with the kernel `K` inlined ([`PlayTop::rates_as`]).
@@ -1676,6 +1672,26 @@ impl Switch {
     }
 }
 
+/// The creeps that `c` ended (parts of `ends` that slide on: `creep_end`) and began (parts of
+/// `starts`: `creep`) at `t`, against the creeping mask `before`.
+fn push_creeps(
+    events: &mut Vec<EventRecord>,
+    t: f64,
+    before: u8,
+    c: &Contacts,
+    ends: u8,
+    starts: u8,
+) {
+    let ended = before & !c.creeping & ends;
+    for i in (0..MAX_PARTS).filter(|&i| ended & (1 << i) != 0 && c.mode[i] == Mode::Slip) {
+        events.push(part_event("creep_end", t, i));
+    }
+    let started = c.creeping & !before & starts;
+    for i in (0..MAX_PARTS).filter(|&i| started & (1 << i) != 0) {
+        events.push(part_event("creep", t, i));
+    }
+}
+
 fn part_event(name: &'static str, t: f64, i: usize) -> EventRecord {
     EventRecord {
         index: None,
@@ -1777,18 +1793,8 @@ pub(crate) fn drive(
         }
         // Parts whose creep the phase's start began (a slip the switch stopped, that cannot
         // stick) or ended (a creep turned back past its range: the law's slide).
-        let creeping = phase.contacts.creeping;
-        for i in 0..top.parts.n {
-            let bit = 1 << i;
-            if (slid | lifted | drilled) & bit != 0 || phase.contacts.mode[i] != Mode::Slip {
-                continue;
-            }
-            if creeping & !creep_before & bit != 0 {
-                info.events.push(part_event("creep", t, i));
-            } else if creep_before & !creeping & bit != 0 {
-                info.events.push(part_event("creep_end", t, i));
-            }
-        }
+        let own = !(slid | lifted | drilled);
+        push_creeps(&mut info.events, t, creep_before, &phase.contacts, own, own);
         // The state after a switch at the same time (impacts make it jump), in the modes the
         // phase integrates (those the switch left, prepared).
         if !first && settings.t_eval.is_none() {
@@ -1879,10 +1885,8 @@ pub(crate) fn drive(
             }
         }
         // A switch the integration ended the phase on, where no event was located.
-        // (A forced creep's end releases the part to its law only when it is the switch.)
-        let release = h.release.replace(false);
-        if let Some(sw) = h.forced.take().filter(|_| reason.is_none() && !stopped) {
-            h.release.set(release);
+        let forced = h.forced.take().filter(|_| reason.is_none() && !stopped);
+        if let Some(sw) = forced {
             reason = Some((sw, info.events.len()));
             info.events.push(sw.event(t1));
         }
@@ -1911,7 +1915,9 @@ pub(crate) fn drive(
         let g_before: Vec<Option<f64>> =
             settings.events.iter().map(|e| value(e.kind, &y)).collect();
         let e_before = top.kinetic_energy(&y) + top.m * top.g * y[9] + y[13];
+        h.unlocated.set(forced.is_some());
         phase = h.apply(switch, &phase, &mut y);
+        h.unlocated.set(false);
         no_energy_from_a_switch(top, &mut y, e_before);
         // Other parts that the switch lifted off, put down, stuck or set sliding at the same
         // instant (an impulse, or parts that stick jointly).
@@ -1939,18 +1945,21 @@ pub(crate) fn drive(
             info.events.remove(record);
         }
         // Parts that stop creeping but slide on (the creep's own end records itself).
-        let creep_to = before_contacts.creeping & !phase.contacts.creeping;
-        for i in (0..top.parts.n).filter(|&i| creep_to & (1 << i) != 0) {
-            if after[i] == Mode::Slip && !matches!(switch, Switch::CreepEnd(_)) {
-                info.events.push(part_event("creep_end", t, i));
-            }
-        }
         // Parts that start to creep at the switch (a part that cannot stick, or that starts
         // to slide from rest, alone on the floor).
-        let creep_from = phase.contacts.creeping & !before_contacts.creeping;
-        for i in (0..top.parts.n).filter(|&i| creep_from & (1 << i) != 0) {
-            info.events.push(part_event("creep", t, i));
-        }
+        let ends = if matches!(switch, Switch::CreepEnd(_)) {
+            0
+        } else {
+            u8::MAX
+        };
+        push_creeps(
+            &mut info.events,
+            t,
+            before_contacts.creeping,
+            &phase.contacts,
+            ends,
+            u8::MAX,
+        );
         for i in 0..top.parts.n {
             let name = match (before[i], after[i]) {
                 (Mode::Flight, Mode::Flight)

@@ -21,7 +21,8 @@
 //!   is zero), so restarting an integration from a terminal event does not find
 //!   the same event again.
 //! * Two sign changes of the same `g` within one step cancel. They are looked for where
-//!   one end of the step is closer to zero than twice the change of `g` over it (two
+//!   one end of the step is closer to zero than twice the change of `g` over it, or where
+//!   the slope of `g` over the step before, carried on through this one, reaches zero (two
 //!   interior points, then the extremum of the cubic through the four values), and
 //!   otherwise missed, as in every step-wise locator; limit `h_max` if that matters.
 //! * Event functions are called once at `t0`, once per step at the step's end,
@@ -104,6 +105,11 @@ pub struct Locator<'a, const N: usize> {
     funcs: Vec<EventFn<'a, N>>,
     specs: Vec<EventSpec>,
     g_prev: Vec<f64>,
+    /// Each function at the step end before `t_prev` (`NaN` in a run's first step), and that
+    /// time: the slope of the last step, which flags a step a function may dip through zero
+    /// and back within.
+    g_prev2: Vec<f64>,
+    t_prev2: f64,
     /// Scratch for the roots found within one step, `(t, index)`.
     pending: Vec<(f64, usize)>,
     /// Events located so far in the current run, in time order.
@@ -124,6 +130,8 @@ impl<'a, const N: usize> Locator<'a, N> {
             funcs: Vec::new(),
             specs: Vec::new(),
             g_prev: Vec::new(),
+            g_prev2: Vec::new(),
+            t_prev2: f64::NAN,
             pending: Vec::new(),
             events: Vec::new(),
             terminal: None,
@@ -135,6 +143,7 @@ impl<'a, const N: usize> Locator<'a, N> {
         self.funcs.push(g);
         self.specs.push(spec);
         self.g_prev.push(f64::NAN);
+        self.g_prev2.push(f64::NAN);
         // `pending` is empty between steps: room for one root per function, so that
         // `check` never allocates for it.
         self.pending.reserve(self.funcs.len());
@@ -161,8 +170,15 @@ impl<'a, const N: usize> Locator<'a, N> {
     pub fn start(&mut self, t0: f64, y0: &[f64; N]) {
         self.events.clear();
         self.terminal = None;
-        for (g, gp) in self.funcs.iter_mut().zip(self.g_prev.iter_mut()) {
+        self.t_prev2 = f64::NAN;
+        for ((g, gp), gp2) in self
+            .funcs
+            .iter_mut()
+            .zip(&mut self.g_prev)
+            .zip(&mut self.g_prev2)
+        {
             *gp = g(t0, y0);
+            *gp2 = f64::NAN;
         }
     }
 
@@ -179,6 +195,8 @@ impl<'a, const N: usize> Locator<'a, N> {
             let g = &mut *self.funcs[k];
             let g_old = self.g_prev[k];
             let g_new = g(t, y);
+            let g_old2 = self.g_prev2[k];
+            self.g_prev2[k] = g_old;
             self.g_prev[k] = g_new;
             // The far end of the bracket: the step's end, or, where the function stays on the
             // side the event is watched from but one end of the step is closer to zero than
@@ -196,7 +214,13 @@ impl<'a, const N: usize> Locator<'a, N> {
             } else {
                 (g_old.abs(), g_new.abs())
             };
-            if watched_side(g_old) && watched_side(g_new) && near < 2.0 * (far - near) {
+            // The last step's slope carried on through this one: where it reaches the other
+            // side, the function was heading for zero at `t_prev` and may have dipped
+            // through it between two ends that are both well clear of it (a normal force
+            // falling towards zero, then rising again, within one step).
+            let heading = g_old + (g_old - g_old2) / (t_prev - self.t_prev2) * (t - t_prev);
+            let dip = near < 2.0 * (far - near) || heading * g_old <= 0.0;
+            if watched_side(g_old) && watched_side(g_new) && dip {
                 let mut yt = [0.0; N];
                 let mut at = |s: f64| {
                     let tau = t_prev + s * (t - t_prev);
@@ -238,6 +262,7 @@ impl<'a, const N: usize> Locator<'a, N> {
             };
             self.pending.push((te, k));
         }
+        self.t_prev2 = t_prev;
         if self.pending.is_empty() {
             return None;
         }

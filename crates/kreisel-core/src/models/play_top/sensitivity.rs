@@ -1070,9 +1070,24 @@ fn run<const N: usize>(
                 other => other,
             })?;
         let hits: Vec<(usize, f64)> = obs.locator.events.iter().map(|e| (e.index, e.t)).collect();
+        let located = obs.locator.terminal_event().is_some();
         drop(obs);
         next_sample = offset + stream.taken;
         drop(fns);
+        let mut y1 = y1;
+        if located {
+            // As the plain run: a located event's state is put on the phase's constraints
+            // (the tangents are left as the dense output gives them).
+            let mut ym = [0.0; DIM];
+            ym.copy_from_slice(&y1[..DIM]);
+            top.project(&ph.contacts, &mut ym);
+            y1[..DIM].copy_from_slice(&ym);
+            if let (Some(&tl), Some(r)) = (t_row.last(), r_row.last_mut()) {
+                if tl == t1 {
+                    *r = h.row(&ph, &ym);
+                }
+            }
+        }
         for (i, ti) in t_row.into_iter().enumerate() {
             if ts.len() >= MAX_ROWS {
                 full.set(true);

@@ -1228,3 +1228,55 @@ def test_a_slide_whose_friction_needs_just_above_the_stick_speed_starts_drilling
     np.testing.assert_allclose(tr.omega[-1], fine.omega[-1], rtol=0, atol=1e-4)
     total = np.asarray(tr.energy) + np.asarray(tr.dissipated)
     assert np.diff(total).max() <= 1e-9 * total[0]
+
+
+def _spheroid_phi(a, b, u):
+    # the lowest point of a spheroid (equatorial a, axial b) below its centre at tilt u
+    return np.sqrt(a * a * (1.0 - u * u) + b * b * u * u)
+
+
+@pytest.mark.parametrize("case", ["8342", "8859"])
+def test_a_part_touching_down_beside_a_drifted_contact_is_on_the_floor(case):
+    """Floor campaign, seed 4, cases 8342 and 8859 at rtol 1e-8: frictionless tops on one part
+    when another touches down, after steps of 17 and 19 ms. The touching part's gap in the
+    step's dense output had drifted by 1.26e-9 and 3.0e-9 m: putting G on it sank the part
+    touching down as far below the floor. The drift is shared half each way up to 1e-9 m,
+    and beyond it the top is turned onto the tilt where both parts are level. Every part of
+    every row is within 1e-9 m of the floor or above it, a touching one within 1e-9 m of it
+    (gaps from G's height and the tilt alone), and E + dissipated never rises beyond the
+    integration's error."""
+    from kreisel.shapes import Spheroid
+
+    if case == "8342":
+        parts = [Torus(0.011492665184210075, 0.005440394813602326, z=-0.0370446720660874),
+                 Spheroid(0.029073708022891786, 0.029073708022891786,
+                          z=0.015157115480023364)]  # fmt: skip
+        top = PlayTop(1.263642401236845, 0.00047119128306708847, 0.00020208066114780988,
+                      shape=parts, friction=kreisel.Frictionless())  # fmt: skip
+        st = PlayState(quaternion=np.array([0.8127658505147036, 0.22501365764125883,
+                                            -0.06550370528973203, -0.5333758437587222]),
+                       omega=np.array([0.0, 42.688337960359895, -4.474371941341944]),
+                       com=np.array([0.0, 0.0, 0.043657014948943106]),
+                       com_velocity=np.array([0.0, 0.0, 0.0]))  # fmt: skip
+    else:
+        parts = [Sphere(0.007031457564485429, z=0.0020318962877598316),
+                 Spheroid(0.01979759235144255, 0.005964026137229931, z=0.029052116191053603),
+                 Torus(0.028488261479053104, 0.005520152029684048,
+                       z=0.03340274751228893)]  # fmt: skip
+        top = PlayTop(0.11597379462092049, 5.162423243050806e-05, 8.869071691342575e-05,
+                      shape=parts, friction=kreisel.Frictionless())  # fmt: skip
+        st = top.state(theta=1.6871359076732528, psi=5.287723052805289,
+                       theta_dot=-5.216541248209005, phi_dot=2.150855441893812,
+                       psi_dot=-6.01520999157347, height=0.002431126521181228)  # fmt: skip
+    tr = kreisel.simulate(top, st, 0.3, events=[kreisel.events.rest()], rtol=1e-8)
+    u, zg = tr.u, tr.com[:, 2]
+    gaps = np.array([zg + p.z * u - (_spheroid_phi(p.equatorial, p.axial, u)
+                                     if isinstance(p, Spheroid) else _phi(p, u))
+                     for p in parts])  # fmt: skip
+    assert gaps.min() >= -1e-9
+    touching = np.asarray(tr.part_in_contact).reshape(len(tr.t), -1).T.astype(bool)
+    assert np.abs(gaps[touching]).max() <= 1e-9
+    assert sum(e.name == "touchdown" for e in tr.events) >= 2
+    total = np.asarray(tr.energy) + np.asarray(tr.dissipated)
+    # DOP853's own energy error at rtol 1e-8 (the campaign's allowance: 1e-9 + 50 rtol)
+    assert np.diff(total).max() <= (1e-9 + 50 * 1e-8) * total[0]

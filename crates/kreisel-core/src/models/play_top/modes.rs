@@ -487,6 +487,23 @@ impl PlayTop {
         let (Some(i), Some(j)) = (on.next(), on.next()) else {
             return;
         };
+        let w0 = self.kin(y).w;
+        let Some(n) = self.tilt_both(i, j, y) else {
+            return;
+        };
+        let before = self.kinetic_energy(y);
+        let w = add(w0, scale(-dot(w0, n), n));
+        let wb = self.kin(y).to_body(w);
+        y[4..7].copy_from_slice(&wb);
+        y[13] += (before - self.kinetic_energy(y)).max(0.0);
+    }
+
+    /// Turns the orientation of `y` (its body-frame angular velocity kept) about the
+    /// horizontal axis `ez x e3` onto the tilt at which parts `i` and `j` are level, both at
+    /// the height of the lowest point of one (see [`Self::fix_tilt`]); returns that axis, or
+    /// None (`y` untouched) where the tilt is not fixed by the two (parts level at every
+    /// tilt, an upright top, no root in (-1, 1)).
+    pub(crate) fn tilt_both(&self, i: usize, j: usize, y: &mut [f64; DIM]) -> Option<[f64; 3]> {
         let (pi, pj) = (self.part(i), self.part(j));
         let k = self.kin(y);
         let mut u = k.e3[2].clamp(-1.0, 1.0);
@@ -494,12 +511,12 @@ impl PlayTop {
             let ((fi, di, _), (fj, dj, _)) = (pi.profile(u), pj.profile(u));
             let slope = pi.z() - pj.z() - di + dj;
             if slope.abs() <= 1e-12 * self.reach() {
-                return;
+                return None;
             }
             let step = ((pi.z() - pj.z()) * u - fi + fj) / slope;
             u -= step;
             if u.is_nan() || u.abs() >= 1.0 {
-                return;
+                return None;
             }
             if step.abs() <= 1e-15 {
                 break;
@@ -508,17 +525,12 @@ impl PlayTop {
         let axis = cross(EZ, k.e3);
         let s = dot(axis, axis).sqrt();
         if s <= 1e-12 {
-            return;
+            return None;
         }
         let n = scale(1.0 / s, axis);
         let delta = u.acos() - k.e3[2].clamp(-1.0, 1.0).acos();
         let q = Quat::from_axis_angle(n, delta).hamilton(k.q).normalized();
         y[..4].copy_from_slice(&q.0);
-        let before = self.kinetic_energy(y);
-        let w = add(k.w, scale(-dot(k.w, n), n));
-        let k1 = self.kin(y);
-        let wb = k1.to_body(w);
-        y[4..7].copy_from_slice(&wb);
-        y[13] += (before - self.kinetic_energy(y)).max(0.0);
+        Some(n)
     }
 }

@@ -1280,3 +1280,51 @@ def test_a_part_touching_down_beside_a_drifted_contact_is_on_the_floor(case):
     total = np.asarray(tr.energy) + np.asarray(tr.dissipated)
     # DOP853's own energy error at rtol 1e-8 (the campaign's allowance: 1e-9 + 50 rtol)
     assert np.diff(total).max() <= (1e-9 + 50 * 1e-8) * total[0]
+
+
+@pytest.mark.parametrize("case", ["286", "2045"])
+def test_a_ring_slapping_down_level_upside_down_lands_flat(case):
+    """Floor campaign, seed 5, cases 286 and 2045: tops upside down on a ring (a torus of
+    2 mm tube; a sharp rim) under Coulomb-Contensou friction, coming down nearly level with
+    their horizontal spin kept. The contact point races round the rim, the normal force grew
+    to 140 and 560 weights at tilts of 2.8e-3 and 7.7e-4 while the tilt still fell slowly, the
+    steps fell to 1.5e-10 s, and both runs were refused as stalled. A ring pressed by more
+    than 100 weights within a tilt of 1e-2 whose steps crawl lands flat, then spins down
+    flat to rest. Checked: the landing's tilt and force (from the rows), every part above
+    the floor (gaps from G's height and the tilt alone), E + dissipated never rising."""
+    if case == "286":
+        parts = [Torus(0.010629096258617974, 0.002084099350943285, z=0.003127487152603966),
+                 Sphere(0.003443695648331083, z=-0.008428942714102529),
+                 Torus(0.020408920470193537, 0.0026229274010381993,
+                       z=-0.010586654871893083)]  # fmt: skip
+        top = PlayTop(0.006845035241257144, 4.775466807247413e-07, 8.798208492775761e-07,
+                      shape=parts,
+                      friction=CoulombContensou(0.9640800658154284, 1.095853652962518e-05),
+                      restitution=0.41834796483247655)  # fmt: skip
+        st = PlayState(quaternion=np.array([-0.364771315087626, -0.6369155291040288,
+                                            -0.6791357176239006, 0.007427888182270109]),
+                       omega=np.array([0.2895921574421741, -0.6988808258804283,
+                                       -0.8603042507309894]),
+                       com=np.array([0.0, 0.0, 0.01996821653282325]),
+                       com_velocity=np.array([0.0, -0.017442619977831687, 0.0]))  # fmt: skip
+    else:
+        parts = [Torus(0.018628421602034758, 0.0, z=0.0029323498673258057),
+                 Torus(0.028313634700795728, 0.0, z=-0.0006595644322424758),
+                 Sphere(0.0, z=-0.01948852432851452)]  # fmt: skip
+        top = PlayTop(0.01968363773661979, 4.214882819806423e-06, 7.807077273113426e-06,
+                      shape=parts,
+                      friction=CoulombContensou(0.8559992309311065, 0.00016751362834000277),
+                      restitution=0.0667539664445605)  # fmt: skip
+        st = top.state(theta=2.7168748475062974, phi=0.8023506752394803,
+                       phi_dot=-0.247338434347339)  # fmt: skip
+    tr = kreisel.simulate(top, st, 0.3, events=[kreisel.events.rest()])
+    assert tr.status == "event" and tr.stats["steps"] < 20_000
+    flat = [e for e in tr.events if e.name == "flat"]
+    assert len(flat) == 1 and flat[0].part == "part0"
+    assert tr.events[-1].name == "rest"
+    before = np.searchsorted(tr.t, flat[0].t) - 1
+    assert 0.0 < math.sqrt(1.0 - tr.u[before] ** 2) <= 1e-2
+    assert np.asarray(tr.part_normal_force)[before, 0] >= 100 * top.m * G
+    assert part_gaps(parts, tr).min() >= -1e-9
+    total = np.asarray(tr.energy) + np.asarray(tr.dissipated)
+    assert np.diff(total).max() <= 1e-9 * total[0]

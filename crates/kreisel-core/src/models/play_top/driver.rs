@@ -226,6 +226,17 @@ pub const FLAT_LEVEL: f64 = 1e-4;
 /// Euler's disk (benchmark T4) comes down on a force near its weight and is unchanged.
 pub const FLAT_FORCE: f64 = 100.0;
 
+/// The inclination's sine below which a ring part pressed by more than [`FLAT_FORCE`] weights
+/// whose steps crawl (the mean of the last 512 below [`HELD_PACE`] of the top's time) lands
+/// flat (Euler's disk, benchmark T4, comes down on a force near its weight, its steps
+/// crawling at the end under Coulomb-Contensou friction: unchanged). Coming down nearly level with its
+/// horizontal spin kept (a ring upside down, slapping down), the contact point races round the
+/// rim and the normal force grows (to 140 and 560 weights at tilts of 2.8e-3 and 7.7e-4) while
+/// the tilt still falls slowly; the steps fell to 1.5e-10 s and the runs were refused as
+/// stalled (floor campaign seed 5, cases 286 and 2045). The rim's two sides are then within
+/// 2 FLAT_HELD of its radius of the floor; the landing is the plastic impact of its face.
+pub const FLAT_HELD: f64 = 1e-2;
+
 /// The pull (as a share of the weight `m g`) beyond which a touching part's normal force is
 /// taken to have jumped through zero rather than crossed it. A lift-off is located on the far
 /// side of its crossing, within [`crate::integrate::events::ROOT_TOL`] of it in time, where a
@@ -1434,7 +1445,11 @@ impl Rules<'_> {
             ..*integrator
         };
         let slow = HELD_PACE * (self.top.reach() / self.top.g).sqrt();
-        let held = (slides && !phase.contacts.flat && self.top.friction.can_stick())
+        let rings = (0..self.top.parts.n).any(|i| {
+            phase.contacts.mode[i] != Mode::Flight
+                && matches!(self.top.parts.shape[i], Shape::Torus { .. })
+        });
+        let held = (!phase.contacts.flat && (rings || slides && self.top.friction.can_stick()))
             .then_some(|y: &[f64; DIM]| self.held_switch(phase, y));
         let mut first = Watched::new(obs, held, slow, t, y, t_end, false);
         let (t1, y1, st) = self.explicit(&explicit, phase, kernel, t, y, t_end, &mut first)?;
@@ -1544,9 +1559,26 @@ impl Rules<'_> {
     /// between them (35 degrees apart) at every step, steps of 4e-11 s, until the run was
     /// refused as stalled (the floor campaign's case 3877 of seed 3).
     fn held_switch(&self, phase: &Phase, y: &[f64; DIM]) -> Option<Switch> {
-        let eps = self.tolerance(y);
         let k = self.top.kin(y);
         let c = &phase.contacts;
+        // A ring coming down nearly level, pressed by more than FLAT_FORCE weights: it lands
+        // flat ([`FLAT_HELD`]).
+        let tilt = (1.0 - k.e3[2] * k.e3[2]).max(0.0).sqrt();
+        let ring = |i: usize| {
+            c.mode[i] != Mode::Flight && matches!(self.top.parts.shape[i], Shape::Torus { .. })
+        };
+        if tilt <= FLAT_HELD && (0..self.top.parts.n).any(ring) {
+            let mut dy = [0.0; DIM];
+            let f = self.top.dynamics(c, y, &mut dy);
+            let pressed = FLAT_FORCE * self.top.m * self.top.g;
+            if let Some(i) = (0..self.top.parts.n).find(|&i| ring(i) && f.n[i] >= pressed) {
+                return Some(Switch::Flat(i));
+            }
+        }
+        if !self.top.friction.can_stick() {
+            return None;
+        }
+        let eps = self.tolerance(y);
         let sliding = |i: usize| c.mode[i] == Mode::Slip;
         (0..self.top.parts.n)
             .find(|&i| {

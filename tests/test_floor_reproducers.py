@@ -1328,3 +1328,28 @@ def test_a_ring_slapping_down_level_upside_down_lands_flat(case):
     assert part_gaps(parts, tr).min() >= -1e-9
     total = np.asarray(tr.energy) + np.asarray(tr.dissipated)
     assert np.diff(total).max() <= 1e-9 * total[0]
+
+
+def test_a_ring_does_not_land_flat_where_another_part_would_be_below_the_floor():
+    """Floor campaign, seed 2, case 7371: a top of four rings upside down under
+    Coulomb-Contensou friction comes down on a sharp rim pressed by more than 100 weights
+    with its steps crawling. Landing that rim flat (the stalled-slap rule) turned the top by
+    up to 1e-2 rad and put another ring 3.2e-5 m below the floor. A ring lands so only where
+    every other part is then above the floor; every row's parts are within 1e-9 m of it or
+    above (gaps from G's height and the tilt alone)."""
+    parts = [Torus(0.01530768066996215, 0.000828691817408655, z=0.008268736597899543),
+             Torus(0.02977948547898167, 0.0, z=0.009065965120122773),
+             Torus(0.033365318365152385, 0.008193086479728242, z=-0.020298172995770268),
+             Torus(0.012047839217479848, 0.004401659946799979,
+                   z=-0.010194086243967846)]  # fmt: skip
+    top = PlayTop(0.04226413776757685, 1.0804117480638135e-05, 1.7681209833509074e-05,
+                  shape=parts, friction=CoulombContensou(0.992942126425399, 3.99382888572948e-05),
+                  restitution=0.95)  # fmt: skip
+    st = top.state(theta=3.1415925665926094, phi=2.2554490701490195,
+                   theta_dot=-6.841340228809995, phi_dot=2.496988845866432,
+                   height=0.024892025642657068)  # fmt: skip
+    tr = kreisel.simulate(top, st, 0.3, events=[kreisel.events.rest()])
+    assert tr.status in ("completed", "event")
+    assert part_gaps(parts, tr).min() >= -1e-9
+    total = np.asarray(tr.energy) + np.asarray(tr.dissipated)
+    assert np.diff(total).max() <= 1e-9 * total[0]

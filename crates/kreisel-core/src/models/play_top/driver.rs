@@ -380,7 +380,9 @@ pub(crate) fn at_event(top: &PlayTop, c: &Contacts, y: &mut [f64; DIM]) {
                 .all(|l| gap(&yt, l) >= gap(y, l).min(0.0));
         if turned {
             *y = yt;
-        } else if drift > 0.0 && drift <= LEVEL_DRIFT {
+        } else if on.is_some() && drift > 1e-11 * top.reach() && drift <= LEVEL_DRIFT {
+            // (Not in flight, where nothing drifts, nor for the touchdown's own offset of
+            // 1e-12 of the reach below the floor.)
             y[9] += 0.5 * drift;
         }
     }

@@ -342,10 +342,7 @@ pub(crate) struct Rules<'a> {
 /// the top is turned onto the tilt at which that part and a touching one are level instead
 /// ([`PlayTop::tilt_both`], its angular velocity kept), G put on the touching part. The
 /// potential energy either move adds is taken from the motion (at most m g times the drift).
-/// Where the moved state has a touching part pulled beyond [`PULL`] and the step's state did
-/// not, the step's state is kept.
 pub(crate) fn at_event(top: &PlayTop, c: &Contacts, y: &mut [f64; DIM]) {
-    let (dense, pulled) = (*y, pulls(top, c, y));
     let before = top.kinetic_energy(y) + top.m * top.g * y[9] + y[13];
     top.project(c, y);
     let gap = |y: &[f64; DIM], i: usize| {
@@ -387,11 +384,6 @@ pub(crate) fn at_event(top: &PlayTop, c: &Contacts, y: &mut [f64; DIM]) {
         }
     }
     no_energy_from_a_switch(top, y, before);
-    if !pulled && pulls(top, c, y) {
-        // The contact solve took another branch at the moved state (a touching part pulled
-        // by 0.12 N at a rest event, seed 4's 6206): the event keeps the step's own state.
-        *y = dense;
-    }
 }
 
 /// The drift (m) of a located event's touching parts beyond which a part touching down
@@ -1476,10 +1468,7 @@ impl Rules<'_> {
             ..*integrator
         };
         let slow = HELD_PACE * (self.top.reach() / self.top.g).sqrt();
-        let rings = (0..self.top.parts.n).any(|i| {
-            phase.contacts.mode[i] != Mode::Flight
-                && matches!(self.top.parts.shape[i], Shape::Torus { .. })
-        });
+        let rings = (0..self.top.parts.n).any(|i| self.ring_on(&phase.contacts, i));
         let held = (!phase.contacts.flat && (rings || slides && self.top.friction.can_stick()))
             .then_some(|y: &[f64; DIM], pace: f64| self.held_switch(phase, y, pace));
         let mut first = Watched::new(obs, held, slow, t, y, t_end, false);
@@ -1582,6 +1571,11 @@ impl Rules<'_> {
         }
     }
 
+    /// Whether part `i` is a ring (a torus) on the floor in `c`.
+    fn ring_on(&self, c: &Contacts, i: usize) -> bool {
+        c.mode[i] != Mode::Flight && matches!(self.top.parts.shape[i], Shape::Torus { .. })
+    }
+
     /// The switch that ends `phase` at `y` where its steps crawl: the `slip_to_roll` of a
     /// part sliding (not creeping) with its sliding measure within the creep's exit range,
     /// [`CREEP_EXIT`] stick speeds; else the end of a creep, which hands the part to its
@@ -1596,9 +1590,7 @@ impl Rules<'_> {
         // A ring coming down nearly level, pressed by more than FLAT_FORCE weights: it lands
         // flat ([`FLAT_HELD`]).
         let tilt = (1.0 - k.e3[2] * k.e3[2]).max(0.0).sqrt();
-        let ring = |i: usize| {
-            c.mode[i] != Mode::Flight && matches!(self.top.parts.shape[i], Shape::Torus { .. })
-        };
+        let ring = |i: usize| self.ring_on(c, i);
         let stalled = FLAT_PACE * (self.top.reach() / self.top.g).sqrt();
         if tilt <= FLAT_HELD && pace < stalled && (0..self.top.parts.n).any(ring) {
             let mut dy = [0.0; DIM];

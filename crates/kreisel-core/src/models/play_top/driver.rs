@@ -825,11 +825,14 @@ impl Rules<'_> {
     fn realign(&self, c: &mut Contacts, i: usize, y: &mut [f64; DIM]) {
         let top = self.top;
         let mut ys = *y;
-        let e0 = top.kinetic_energy(&ys);
+        // E + dissipated kept whole: the projection books the kinetic energy it removes
+        // itself, so a kinetic-energy balance taken around it booked that twice (the floor
+        // campaign's case 1528 of seed 1 at rtol 1e-6: E + dissipated up by 2.5e-7 J,
+        // 1.7e-4 of E, at a creep's start).
+        let before = top.kinetic_energy(&ys) + top.m * top.g * ys[9] + ys[13];
         top.creep_slave(c, i, &mut ys);
         top.project(c, &mut ys);
-        let excess = top.kinetic_energy(&ys) - e0;
-        top.shed_energy(&mut ys, excess);
+        no_energy_from_a_switch(top, &mut ys, before);
         if self.creep_end_value(c, i, &ys, self.tolerance(&ys)) > 0.0 {
             *y = ys;
         } else {

@@ -1080,7 +1080,7 @@ fn run<const N: usize>(
             // (the tangents are left as the dense output gives them).
             let mut ym = [0.0; DIM];
             ym.copy_from_slice(&y1[..DIM]);
-            super::driver::at_event(top, &ph.contacts, &mut ym);
+            super::driver::at_event(top, &ph.contacts, &mut ym, &y);
             y1[..DIM].copy_from_slice(&ym);
             if let (Some(&tl), Some(r)) = (t_row.last(), r_row.last_mut()) {
                 if tl == t1 {

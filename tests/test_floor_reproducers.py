@@ -1431,3 +1431,29 @@ def test_a_phase_that_no_set_of_modes_keeps_pressing_lets_the_pulled_part_leave(
     assert lifts and lifts[0].part == "part1"
     touching = tr["part_mode"] != "flight"
     assert tr["part_normal_force"][touching].min() >= -1e-9 * 0.26471049332604113 * 9.81
+
+
+def test_a_normal_force_dipping_through_zero_in_a_phases_first_step_is_seen():
+    """Floor campaign, seed 8, case 5023 at rtol 1e-6: a 30 g top on two tori under
+    Coulomb-Contensou friction touches down on its fat torus and slides. The phase's first
+    step was 12 ms long; inside it the torus's normal force fell from 0.028 N to a pull of
+    0.024 N and rose to 0.020 N. The locator looks inside a step where the last step's
+    slope heads for zero, and a phase's first step has none: the lift-off was missed, and
+    the pulled friction fed 2e-5 J in (the dissipated energy fell by that in one step).
+    The dissipated energy never falls, and E + dissipated never rises."""
+    top = PlayTop(0.03029470579903082, 4.276162515597574e-06, 6.4122569859757715e-06,
+                  shape=[Torus(0.01757235101127964, 0.0, z=-0.013777175377675858),
+                         Torus(0.021909091006755203, 0.0030005434200889598,
+                               z=0.011921123688940277)],
+                  friction=CoulombContensou(0.3393514287922496, 1.1507233352200898e-05),
+                  drilling_resistance=0.00011394476982613519)  # fmt: skip
+    st = top.state(theta=2.493567302501573, psi=1.487692692602032,
+                   phi_dot=-50.76859278742804, psi_dot=1.130353554153181,
+                   vx=-0.002077417941010598, height=0.03446367770074431)  # fmt: skip
+    tr = kreisel.simulate(top, st, 0.3, events=[kreisel.events.rest()], rtol=1e-6)
+    lifts = [e.t for e in tr.events if e.name == "lift_off" and 0.1785 < e.t < 0.1906]
+    assert lifts
+    total = tr["energy"] + tr["dissipated"]
+    allowed = 50 * 1e-6 * total[0]  # the integration's own share, as the campaign allows
+    assert np.diff(tr["dissipated"]).min() >= -allowed
+    assert (total - total[0]).max() <= allowed

@@ -353,8 +353,7 @@ pub(crate) struct Rules<'a> {
 /// motion at a `rest` event (whose kinetic energy is 1e-12 of the start's) stopped the top
 /// dead, and its friction's direction at zero slip pulled a part by 0.0037 N (seed 3, 7971).
 pub(crate) fn at_event(top: &PlayTop, c: &Contacts, y: &mut [f64; DIM], start: &[f64; DIM]) {
-    let ledger = |y: &[f64; DIM]| top.kinetic_energy(y) + top.m * top.g * y[9] + y[13];
-    let before = ledger(y).max(ledger(start));
+    let before = ledger(top, y).max(ledger(top, start));
     top.project(c, y);
     let gap = |y: &[f64; DIM], i: usize| {
         let k = top.kin(y);
@@ -840,7 +839,7 @@ impl Rules<'_> {
         // itself, so a kinetic-energy balance taken around it booked that twice (the floor
         // campaign's case 1528 of seed 1 at rtol 1e-6: E + dissipated up by 2.5e-7 J,
         // 1.7e-4 of E, at a creep's start).
-        let before = top.kinetic_energy(&ys) + top.m * top.g * ys[9] + ys[13];
+        let before = ledger(top, &ys);
         top.creep_slave(c, i, &mut ys);
         top.project(c, &mut ys);
         no_energy_from_a_switch(top, &mut ys, before);
@@ -1859,12 +1858,18 @@ fn part_event(name: &'static str, t: f64, i: usize) -> EventRecord {
     }
 }
 
+/// `E + dissipated` at `y` (J): kinetic and potential energy and the energy dissipated so far,
+/// conserved along a phase and never raised by a switch.
+fn ledger(top: &PlayTop, y: &[f64; DIM]) -> f64 {
+    top.kinetic_energy(y) + top.m * top.g * y[9] + y[13]
+}
+
 /// A switch keeps `E + dissipated`: it only turns energy into dissipated energy. The state
 /// it leaves is put on the floor from the located state a hair below it
 /// ([`PlayTop::touchdown_offset`]), which raises the potential energy by `m g offset`, and
 /// its projections round: the difference from `before` is shed ([`PlayTop::shed_energy`]).
 fn no_energy_from_a_switch(top: &PlayTop, y: &mut [f64; DIM], before: f64) {
-    let now = top.kinetic_energy(y) + top.m * top.g * y[9] + y[13];
+    let now = ledger(top, y);
     top.shed_energy(y, now - before);
 }
 
@@ -1901,7 +1906,7 @@ pub(crate) fn drive(
     let t_end = settings.t_end;
     let mut info = RunInfo::default();
     let mut y = *y0;
-    let e_given = top.kinetic_energy(&y) + top.m * top.g * y[9] + y[13];
+    let e_given = ledger(top, &y);
     let (mut phase, jam) = h.start(&mut y);
     // Putting the start on its contacts (or its impact at t = 0) keeps E + dissipated too.
     no_energy_from_a_switch(top, &mut y, e_given);
@@ -2084,7 +2089,7 @@ pub(crate) fn drive(
         let before = before_contacts.mode;
         let g_before: Vec<Option<f64>> =
             settings.events.iter().map(|e| value(e.kind, &y)).collect();
-        let e_before = top.kinetic_energy(&y) + top.m * top.g * y[9] + y[13];
+        let e_before = ledger(top, &y);
         h.unlocated.set(forced.is_some());
         phase = h.apply(switch, &phase, &mut y);
         h.unlocated.set(false);

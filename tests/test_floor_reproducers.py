@@ -34,6 +34,8 @@ G = 9.81
 def _phi(part, u):
     if isinstance(part, Sphere):
         return part.radius + 0.0 * u
+    if isinstance(part, Spheroid):  # the support function of the ellipsoid along the vertical
+        return np.sqrt(part.equatorial**2 * (1.0 - u * u) + part.axial**2 * u * u)
     return part.major * np.sqrt(np.clip(1.0 - u * u, 0.0, None)) + part.minor
 
 
@@ -1457,3 +1459,48 @@ def test_a_normal_force_dipping_through_zero_in_a_phases_first_step_is_seen():
     allowed = 50 * 1e-6 * total[0]  # the integration's own share, as the campaign allows
     assert np.diff(tr["dissipated"]).min() >= -allowed
     assert (total - total[0]).max() <= allowed
+
+
+def test_a_ring_coming_down_flat_beside_a_pole_below_its_plane_rests_on_the_pole():
+    """Floor campaign, seed 7, case 9484 (every rtol): a 1.8 g top upside down on a sharp
+    rim, its spheroid's pole reaching 1.28e-7 m past the rim's plane (the pole at body
+    z = -0.0028095 + 0.0056113, the rim at 0.0028017). Its tilt fell below the flat level
+    with the pole still above the floor, and laying the rim flat put the pole 1.28e-7 m into
+    the floor. The top now lies flat on the pole, the rim 1.28e-7 m above the floor (the
+    state of a top on its pole and rim at a tilt of 2.4e-5 rad, below the flat level), and
+    no part is ever below it. On the pole it spins down under the patch's drilling torque
+    mu N rbar, rbar = 3 pi R / 16 (the Coulomb-Contensou law at zero slip, theory: "Friction
+    laws"): the spin falls at mu m g rbar / C."""
+    m, a, c = 0.0017783797297072444, 5.0560085739213835e-09, 1.0112017147842767e-08
+    mu, radius = 0.7260612465753467, 0.0005068571047192349
+    rim = Torus(0.00535056764655552, 0.0, z=0.002801653434752315)
+    pole = Spheroid(0.0026477236855045228, 0.005611265424306459, z=-0.0028094839002067457)
+    top = PlayTop(m, a, c, shape=[rim, pole], friction=CoulombContensou(mu, radius))
+    st = top.state(theta=3.14049504940001, phi=3.291249852214779,
+                   psi_dot=-3.4581208989067274)  # fmt: skip
+    for rtol in (None, 1e-8, 1e-6):
+        tol = {} if rtol is None else {"rtol": rtol}
+        tr = kreisel.simulate(top, st, 0.3, events=[kreisel.events.rest()], **tol)
+        assert part_gaps([rim, pole], tr).min() >= -1e-9
+        names = [e.name for e in tr.events]
+        assert names[0] == "flat" and names[-1] == "rest", names
+        t = np.asarray(tr.t)
+        i = int(np.searchsorted(t, tr.events[0].t, side="right"))
+        # Flat on the pole: the pole touches at the floor, the rim is above it by the pole's
+        # reach past its plane (upside down, G is as high as the pole reaches above it).
+        assert np.asarray(tr.part_in_contact)[i:, 1].all()
+        assert not np.asarray(tr.part_in_contact)[i:, 0].any()
+        reach = pole.z + pole.axial - rim.z
+        assert 1.2e-7 < reach < 1.3e-7
+        z = np.asarray(tr.com)[i:, 2]
+        np.testing.assert_allclose(z, pole.z + pole.axial, rtol=0, atol=1e-12)
+        np.testing.assert_allclose(z - rim.z, reach, rtol=1e-6)  # the rim's height
+        # The spin falls linearly, at mu m g rbar / C, while it lasts (the last rows stop at
+        # the stick speed).
+        w = np.abs(np.asarray(tr.omega)[i:, 2])
+        on = w > 0.2 * w[0]
+        slope = np.polyfit(t[i:][on], w[on], 1)[0]
+        assert on.sum() >= 5
+        assert -slope == pytest.approx(mu * m * 9.81 * (3 * math.pi * radius / 16) / c, rel=2e-3)
+        total = np.asarray(tr.energy) + np.asarray(tr.dissipated)
+        assert np.diff(total).max() <= 1e-9 * total[0]

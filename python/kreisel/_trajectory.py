@@ -183,7 +183,8 @@ class Trajectory:
         ``|omega_z| > |omega_horizontal|``, a top sleeping on its tip), ``"sliding"`` (slipping;
         under Coulomb-Contensou friction a contact patch that spins about the normal slides
         too, even at zero slip velocity) and ``"flat"`` (a ring lying flat on its face,
-        touching along its whole circle; whether it sticks is in ``mode``). The column
+        touching along its whole circle, or the pole on which a top lies flat where that pole
+        reaches past the ring's plane; whether it sticks is in ``mode``). The column
         ``part_mode`` holds the same as an array (n, parts).
 
         Examples

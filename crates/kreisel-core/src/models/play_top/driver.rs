@@ -462,10 +462,12 @@ impl<'a> Rules<'a> {
         self.top.dynamics(contacts, y, &mut dy)
     }
 
-    /// Ring part `i` lies flat from `y` on: sliding, or stuck where its sliding is within the
-    /// tolerance and its law can stick; `y` put on the flat contact.
+    /// Ring part `i` lies flat from `y` on (on the part [`PlayTop::flat_support`] picks: a
+    /// pole reaching below the ring's plane carries the top): sliding, or stuck where its
+    /// sliding is within the tolerance and its law can stick; `y` put on the flat contact.
     fn lie_flat(&self, i: usize, y: &mut [f64; DIM]) -> Phase {
         let top = self.top;
+        let i = top.flat_support(i, y);
         let stuck = top.friction.can_stick() && top.flat_slide(i, y) <= self.tolerance(y);
         let contacts = top.flat_contacts(i, stuck);
         top.project(&contacts, y);

@@ -129,14 +129,52 @@ impl PlayTop {
     }
 
     /// The sliding measure of a ring lying flat: `sqrt(|v|^2 + (R w_z)^2)`, the largest
-    /// speed of a point of its rim is at most this times sqrt 2.
+    /// speed of a point of its rim is at most this times sqrt 2 (R from
+    /// [`Self::flat_radius`]).
     pub fn flat_slide(&self, i: usize, y: &[f64; DIM]) -> f64 {
         let k = self.kin(y);
-        let r = match *self.part(i) {
-            Shape::Torus { major, .. } => major,
-            _ => 0.0,
-        };
+        let r = self.flat_radius(i);
         (k.v[0] * k.v[0] + k.v[1] * k.v[1] + r * r * k.w[2] * k.w[2]).sqrt()
+    }
+
+    /// The radius over which part `i` touches when the top lies flat on it: a ring's
+    /// circle; a part touching at its pole ([`Self::flat_support`]) touches over its
+    /// Coulomb-Contensou patch (the drilling's mean radius `rbar`; 0 for a point contact).
+    pub fn flat_radius(&self, i: usize) -> f64 {
+        match *self.part(i) {
+            Shape::Torus { major, .. } => major,
+            _ => self.friction.rbar(),
+        }
+    }
+
+    /// The height of G above the floor where the top lies flat (figure axis vertical, `u` =
+    /// +1 upright, -1 upside down) with part `i`'s lowest point on the floor: a ring's
+    /// circle, a sphere's or spheroid's pole.
+    pub fn flat_height(&self, i: usize, u: f64) -> f64 {
+        let p = self.part(i);
+        match *p {
+            Shape::Torus { z, minor, .. } => minor - z * u,
+            _ => p.profile(u).0 - p.z() * u,
+        }
+    }
+
+    /// The part the top rests on where ring part `i` comes down flat: the ring, unless a
+    /// part on the axis reaches below the ring's plane (by less than the flat level over the
+    /// ring's radius, else it would have touched first). Then the top lies flat on that
+    /// part's pole, the ring's rim within the flat level of the floor (the state of a top
+    /// resting on its pole and its rim at the tilt their levels fix, a tilt below the flat
+    /// level, where the rim carries a share of the weight of the order of that tilt): so no
+    /// part is put below the floor.
+    pub fn flat_support(&self, i: usize, y: &[f64; DIM]) -> usize {
+        let u = if self.kin(y).e3[2] >= 0.0 { 1.0 } else { -1.0 };
+        let mut best = (i, self.flat_height(i, u));
+        for l in 0..self.parts.n {
+            let h = self.flat_height(l, u);
+            if h > best.1 {
+                best = (l, h);
+            }
+        }
+        best.0
     }
 
     /// Each part's gap rate at `y`, at least zero: the normal targets of an impulse that
@@ -150,10 +188,11 @@ impl PlayTop {
         target
     }
 
-    /// Puts a state on the flat contact of ring part `i`: the figure axis exactly vertical
-    /// (the orientation a turn about it from upright or from upside down, so that the
-    /// integration keeps it exactly), no tilting rate, G at the ring's resting height with no
-    /// vertical velocity, and where `stuck` no motion at all. The kinetic energy removed
+    /// Puts a state on the flat contact of part `i` (a ring, or the pole of
+    /// [`Self::flat_support`]): the figure axis exactly vertical (the orientation a turn
+    /// about it from upright or from upside down, so that the integration keeps it exactly),
+    /// no tilting rate, G at the part's resting height ([`Self::flat_height`]) with no
+    /// vertical velocity, and where `stuck` no sliding and (over a ring or a patch) no spin. The kinetic energy removed
     /// (a plastic impact of the ring's face on the floor) is added to the dissipated energy;
     /// where the height's change would raise the energy, the velocities are scaled to keep
     /// it.
@@ -161,7 +200,13 @@ impl PlayTop {
         let before = self.kinetic_energy(y) + self.m * self.g * y[9];
         let k = self.kin(y);
         let up = k.e3[2] >= 0.0;
-        let wz = if stuck { 0.0 } else { k.w[2] };
+        // A part stuck on a point (no patch) keeps its spin: a point contact takes no
+        // moment about the normal.
+        let wz = if stuck && self.flat_radius(i) > 0.0 {
+            0.0
+        } else {
+            k.w[2]
+        };
         let q = if up {
             // A turn by a about ez: q = (cos a/2, 0, 0, sin a/2), a the heading of body x.
             let a = k.r[1][0].atan2(k.r[0][0]);
@@ -178,11 +223,7 @@ impl PlayTop {
         y[4] = 0.0;
         y[5] = 0.0;
         y[6] = u * wz;
-        let (z, minor) = match *self.part(i) {
-            Shape::Torus { z, minor, .. } => (z, minor),
-            _ => (0.0, 0.0),
-        };
-        y[9] = minor - z * u;
+        y[9] = self.flat_height(i, u);
         if stuck {
             y[10] = 0.0;
             y[11] = 0.0;

@@ -57,7 +57,8 @@ pub enum PartState {
     /// (under point Coulomb or viscous friction every slipping part; under
     /// Coulomb-Contensou friction a part whose slip speed exceeds rbar |w_z|).
     Sliding,
-    /// A ring lying flat on the floor, touching along its whole circle (sticking or sliding:
+    /// A ring lying flat on the floor, touching along its whole circle, or the pole a top
+    /// lies flat on ([`PlayTop::flat_support`]) (sticking or sliding:
     /// [`PlayTop::contact_mode`] tells which).
     Flat,
 }

@@ -1696,7 +1696,9 @@ impl PlayTop {
     /// moment are closed forms for viscous friction (`F = -mu N v`, `M_z = -mu N R^2 w_z`) and
     /// point Coulomb friction ([`rim_coulomb`]), and under Coulomb-Contensou friction (smooth
     /// wherever the rim spins) the rim's mean over 64 points. A ring stuck flat (mode roll)
-    /// rests.
+    /// rests. A top lying flat on a pole ([`Self::flat_support`]) takes the law at that one
+    /// point (R = 0; its patch's drilling under Coulomb-Contensou friction); stuck, it spins
+    /// on where the point has no patch.
     #[inline(never)]
     pub fn flat_dynamics(&self, c: &Contacts, y: &[f64; DIM], dy: &mut [f64; DIM]) -> Forces {
         let k = self.kin(y);
@@ -1708,13 +1710,24 @@ impl PlayTop {
         let n = self.m * self.g;
         f.n[i] = n;
         f.den[i] = 1.0 / self.m;
+        let r = self.flat_radius(i);
+        // Resistance torques about the vertical (the horizontal ones are taken by the floor).
+        let resistance = || {
+            let (res_n, res_0) = self.resistance_at(k.wb, k.to_body(EZ), self.reach());
+            k.to_space(add(scale(n, res_n), res_0))[2]
+        };
+        let u = k.e3[2].signum();
         if c.mode[i] == Mode::Roll {
+            if r == 0.0 {
+                // Stuck on a point (a pole, no patch): it spins on, slowed by the resistance
+                // torques alone.
+                let res = resistance();
+                dy[..4].copy_from_slice(&k.q.half_times_pure(k.wb));
+                dy[6] = u * res / self.c;
+                dy[13] = -res * k.w[2];
+            }
             return f;
         }
-        let r = match *self.part(i) {
-            Shape::Torus { major, .. } => major,
-            _ => 0.0,
-        };
         let (v, wz) = ([k.v[0], k.v[1]], k.w[2]);
         let (mut fx, mut fy, mut mz) = (0.0, 0.0, 0.0);
         match self.friction {
@@ -1731,10 +1744,15 @@ impl PlayTop {
                 mz = mu * n * r * m;
             }
             Friction::CoulombContensou { .. } => {
-                const NQ: usize = 64;
-                let w = n / NQ as f64;
-                for j in 0..NQ {
-                    let phi = (j as f64 + 0.5) * std::f64::consts::TAU / NQ as f64;
+                // A ring's rim by 64 points; a pole's patch at its one point.
+                let (nq, r) = if matches!(self.part(i), Shape::Torus { .. }) {
+                    (64, r)
+                } else {
+                    (1, 0.0)
+                };
+                let w = n / nq as f64;
+                for j in 0..nq {
+                    let phi = (j as f64 + 0.5) * std::f64::consts::TAU / nq as f64;
                     let (sn, cs) = phi.sin_cos();
                     let (rx, ry) = (r * cs, r * sn);
                     let vp = [v[0] - wz * ry, v[1] + wz * rx, 0.0];
@@ -1747,10 +1765,7 @@ impl PlayTop {
         }
         f.ft[i] = [fx, fy];
         f.mz[i] = mz;
-        // Resistance torques about the vertical (the horizontal ones are taken by the floor).
-        let (res_n, res_0) = self.resistance_at(k.wb, k.to_body(EZ), self.reach());
-        let res = k.to_space(add(scale(n, res_n), res_0))[2];
-        let u = k.e3[2].signum();
+        let res = resistance();
         dy[..4].copy_from_slice(&k.q.half_times_pure(k.wb));
         dy[6] = u * (mz + res) / self.c;
         dy[7] = v[0];

@@ -1504,3 +1504,26 @@ def test_a_ring_coming_down_flat_beside_a_pole_below_its_plane_rests_on_the_pole
         assert -slope == pytest.approx(mu * m * 9.81 * (3 * math.pi * radius / 16) / c, rel=2e-3)
         total = np.asarray(tr.energy) + np.asarray(tr.dissipated)
         assert np.diff(total).max() <= 1e-9 * total[0]
+
+
+def test_a_slide_whose_steps_a_missed_stiffness_holds_goes_on_implicitly():
+    """Floor campaign, seed 10, case 2831: a 3.8 g top upside down on a sharp rim under
+    Coulomb-Contensou friction with a drilling resistance. Coming down towards level, its
+    spin about the figure axis relaxes under the rim's patch at about 1e10 /s (C = 3.1e-8
+    kg m^2): DOP853 was stable at steps of 2.6e-10 s and not at 3.7e-10 s, but its
+    stiffness test (along the last stages' difference) never tripped, and the run was
+    refused as stalled at 0.0443 s. A slide whose explicit steps fall below the held pace
+    with no switch to end it on goes on by Radau IIA. (The same run stalls again at 0.164 s,
+    where Radau IIA's Newton iteration fails at steps above 1e-8 s: issue 24.)"""
+    parts = [Spheroid(0.006925046267248409, 0.009958749318736809, z=-0.016186554598119948),
+             Torus(0.006274931338621115, 0.0, z=0.0030480885484631508)]  # fmt: skip
+    top = PlayTop(0.0037926319955674864, 1.5567157213201374e-07, 3.060310441251321e-08,
+                  shape=parts, friction=CoulombContensou(0.380783051481319, 3.511484908747904e-05),
+                  restitution=0.95, drilling_resistance=0.0006862728851255611)  # fmt: skip
+    st = top.state(theta=3.0665337302707316, phi=0.40401387234015623, psi=4.36424608070319,
+                   psi_dot=-44.10118353836169)  # fmt: skip
+    tr = kreisel.simulate(top, st, 0.1, events=[kreisel.events.rest()])
+    assert tr.status == "completed" and tr.t[-1] == 0.1
+    assert part_gaps(parts, tr).min() >= -1e-9
+    total = np.asarray(tr.energy) + np.asarray(tr.dissipated)
+    assert np.diff(total).max() <= 1e-9 * total[0]

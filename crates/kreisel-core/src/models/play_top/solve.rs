@@ -1613,6 +1613,20 @@ impl PlayTop {
         if !start.is_finite() || start >= 0.0 {
             return;
         }
+        if m == 1 {
+            // One free variable (two parts): solved directly ([`Self::split_1d`]).
+            if let Some(c) = self.split_1d(sys, what) {
+                let x = at(&{
+                    let mut c1 = [0.0; U];
+                    c1[0] = c;
+                    c1
+                });
+                if worst(&x) > start {
+                    sys.x = x;
+                }
+                return;
+            }
+        }
         // The simplex: the least-norm point and a step along each null vector, a tenth of
         // the forces' size in the weighted norm.
         let size = (0..n)
@@ -1678,6 +1692,126 @@ impl PlayTop {
         if val[best] < -start {
             sys.x = at(&pts[best]);
         }
+    }
+
+    /// The split of largest smallest margin along a one-dimensional null space (`sys.m` =
+    /// 1: the forces `x0 + c b`), solved directly: part i's margin
+    /// `mu (a_i + b_i c) - sqrt(A_i c^2 + 2 B_i c + C_i)` (its normal force `a_i + b_i c`,
+    /// the squared size of its friction in the ellipse's coordinates a quadratic in c) is
+    /// concave, with its maximum, where `A_i > mu^2 b_i^2`, at
+    /// `c_i = (-B_i + mu b_i sqrt((A_i C_i - B_i^2) / (A_i - mu^2 b_i^2))) / A_i` (the
+    /// derivative's zero). The smallest margin is concave too, and its maximum lies between
+    /// the smallest and the largest `c_i`: at some `c_i` where part i's margin is the
+    /// smallest there, else where two margins cross (two parts: their difference changes
+    /// sign between their maxima; the root by bisection to the rounding of c). `None` where
+    /// a part's margin has no maximum (it grows without bound along the null vector).
+    fn split_1d<const U: usize>(&self, sys: &System<U>, what: &[Unknown; U]) -> Option<f64> {
+        let mu = self.friction.mu();
+        let rb = self.friction.rbar();
+        // Per part: the normal force (a, b) and the friction's components (x0 part, b part)
+        // in the ellipse's coordinates (the moment over rbar).
+        let mut nf = [[0.0; 2]; MAX_PARTS];
+        let mut comp = [[[0.0; 2]; 3]; MAX_PARTS];
+        let mut sticks = [false; MAX_PARTS];
+        for j in 0..sys.n {
+            let v = [sys.x[j], sys.basis[0][j]];
+            match what[j] {
+                Unknown::StickN(i) => {
+                    nf[i] = v;
+                    sticks[i] = true;
+                }
+                Unknown::StickT(i, axis) => comp[i][axis] = v,
+                Unknown::StickM(i) if rb > 0.0 => comp[i][2] = [v[0] / rb, v[1] / rb],
+                _ => {}
+            }
+        }
+        let (mut list, mut k) = ([0usize; MAX_PARTS], 0);
+        for (i, _) in sticks.iter().enumerate().filter(|(_, &st)| st) {
+            list[k] = i;
+            k += 1;
+        }
+        let parts = &list[..k];
+        if parts.is_empty() {
+            return None;
+        }
+        let margin = |i: usize, c: f64| {
+            let q: f64 = comp[i].iter().map(|e| (e[0] + c * e[1]).powi(2)).sum();
+            mu * (nf[i][0] + c * nf[i][1]) - q.sqrt()
+        };
+        let smallest = |c: f64| {
+            parts
+                .iter()
+                .map(|&i| margin(i, c))
+                .fold(f64::INFINITY, f64::min)
+        };
+        let mut peaks = [0.0; MAX_PARTS];
+        for &i in parts {
+            let (a, b, cc) = comp[i].iter().fold((0.0, 0.0, 0.0), |(a, b, cc), e| {
+                (a + e[1] * e[1], b + e[0] * e[1], cc + e[0] * e[0])
+            });
+            let nb = mu * nf[i][1];
+            let d = a - nb * nb;
+            if a <= 0.0 || d <= 0.0 {
+                return None;
+            }
+            peaks[i] = (-b + nb * ((a * cc - b * b).max(0.0) / d).sqrt()) / a;
+        }
+        // A peak where its own margin is the smallest is the answer.
+        if let Some(&i) = parts
+            .iter()
+            .find(|&&i| smallest(peaks[i]) >= margin(i, peaks[i]))
+        {
+            return Some(peaks[i]);
+        }
+        let lo = parts
+            .iter()
+            .map(|&i| peaks[i])
+            .fold(f64::INFINITY, f64::min);
+        let hi = parts
+            .iter()
+            .map(|&i| peaks[i])
+            .fold(f64::NEG_INFINITY, f64::max);
+        if parts.len() == 2 {
+            // The crossing of the two margins, bracketed by their peaks.
+            let (i, j) = (parts[0], parts[1]);
+            let g = |c: f64| margin(i, c) - margin(j, c);
+            let (mut a, mut b) = (peaks[i], peaks[j]);
+            let ga = g(a);
+            if ga == 0.0 || ga.signum() == g(b).signum() {
+                return None;
+            }
+            loop {
+                let mid = 0.5 * (a + b);
+                if mid <= a.min(b) || mid >= a.max(b) {
+                    break;
+                }
+                let gm = g(mid);
+                if gm == 0.0 {
+                    return Some(mid);
+                }
+                if gm.signum() == ga.signum() {
+                    a = mid;
+                } else {
+                    b = mid;
+                }
+            }
+            return Some(if smallest(a) >= smallest(b) { a } else { b });
+        }
+        // More parts: the concave smallest margin's maximum on [lo, hi] by golden sections.
+        let r = 0.5 * (5f64.sqrt() - 1.0);
+        let (mut a, mut b) = (lo, hi);
+        for _ in 0..200 {
+            if b - a <= 4.0 * f64::EPSILON * a.abs().max(b.abs()) {
+                break;
+            }
+            let (c1, c2) = (b - r * (b - a), a + r * (b - a));
+            if smallest(c1) >= smallest(c2) {
+                b = c2;
+            } else {
+                a = c1;
+            }
+        }
+        Some(0.5 * (a + b))
     }
 
     /// The gap's acceleration of part `i` from a state derivative `dy`.
@@ -1911,6 +2045,100 @@ mod tests {
         );
         assert!((x[0] - 1.0).abs() < 1e-12 && (x[3] - 3.0).abs() < 1e-12);
         assert!(x[2].abs() < 1e-12 && x[5].abs() < 1e-12);
+    }
+
+    /// The direct one-variable split against a scan: random two- and three-part splits
+    /// (normal forces, friction and drilling moments all moving along the null vector, under
+    /// Coulomb-Contensou friction): the smallest margin (each from [`PlayTop::cone_margin`])
+    /// at the split's `c` is at least the best of 20001 points around it and of a golden
+    /// search's refinement of the best one, to rounding.
+    #[test]
+    fn the_one_variable_split_is_the_best_of_a_scan() {
+        let top = ball(
+            Friction::coulomb_contensou(0.3, 2e-3).unwrap(),
+            &[Shape::Sphere {
+                radius: 0.01,
+                z: 0.0,
+            }],
+        );
+        let mut seed = 12345u64;
+        let mut rnd = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            ((seed >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
+        };
+        let (mut solved, mut cases) = (0, 0);
+        for parts in [2usize, 3] {
+            for _ in 0..300 {
+                let mut sys = System::<MAXU>::new();
+                let mut what = [Unknown::StickN(0); MAXU];
+                let kinds = |i: usize| {
+                    [
+                        Unknown::StickN(i),
+                        Unknown::StickT(i, 0),
+                        Unknown::StickT(i, 1),
+                        Unknown::StickM(i),
+                    ]
+                };
+                let mut j = 0;
+                for i in 0..parts {
+                    for kind in kinds(i) {
+                        what[j] = kind;
+                        let scale = if matches!(kind, Unknown::StickM(_)) {
+                            1e-3
+                        } else {
+                            1.0
+                        };
+                        sys.x[j] = scale * rnd() + if j % 4 == 0 { 2.0 } else { 0.0 };
+                        sys.basis[0][j] = scale * rnd();
+                        j += 1;
+                    }
+                }
+                sys.n = j;
+                sys.m = 1;
+                let smallest = |c: f64| {
+                    (0..parts)
+                        .map(|i| {
+                            let at = |r: usize| sys.x[4 * i + r] + c * sys.basis[0][4 * i + r];
+                            top.cone_margin(at(0), [at(1), at(2)], at(3))
+                        })
+                        .fold(f64::INFINITY, f64::min)
+                };
+                cases += 1;
+                let Some(c) = top.split_1d(&sys, &what) else {
+                    continue;
+                };
+                solved += 1;
+                let span = 10.0 * (1.0 + c.abs());
+                let mut best = (c, smallest(c));
+                for k in 0..=20000 {
+                    let ck = c - span + 2.0 * span * k as f64 / 20000.0;
+                    let v = smallest(ck);
+                    if v > best.1 {
+                        best = (ck, v);
+                    }
+                }
+                let h = 2.0 * span / 20000.0;
+                let (mut a, mut b) = (best.0 - h, best.0 + h);
+                for _ in 0..100 {
+                    let (c1, c2) = (b - 0.618 * (b - a), a + 0.618 * (b - a));
+                    if smallest(c1) >= smallest(c2) {
+                        b = c2;
+                    } else {
+                        a = c1;
+                    }
+                }
+                let refined = smallest(0.5 * (a + b)).max(best.1);
+                assert!(
+                    smallest(c) >= refined - 1e-12 * (1.0 + refined.abs()),
+                    "parts {parts}: split at {c} gives {} against {refined}",
+                    smallest(c)
+                );
+            }
+        }
+        // Most random splits have a bounded best (the friction grows faster than the cone).
+        assert!(solved > cases / 2, "{solved} of {cases}");
     }
 
     /// Normal forces 2 and 3 N, T = 0.5 N: the least-norm split (0.25 N each, margins 0.35

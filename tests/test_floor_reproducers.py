@@ -1514,7 +1514,7 @@ def test_a_slide_whose_steps_a_missed_stiffness_holds_goes_on_implicitly():
     stiffness test (along the last stages' difference) never tripped, and the run was
     refused as stalled at 0.0443 s. A slide whose explicit steps fall below the held pace
     with no switch to end it on goes on by Radau IIA. (The same run stalls again at 0.164 s,
-    where Radau IIA's Newton iteration fails at steps above 1e-8 s: issue 24.)"""
+    where Radau IIA's Newton iteration fails at steps above 1e-8 s.)"""
     parts = [Spheroid(0.006925046267248409, 0.009958749318736809, z=-0.016186554598119948),
              Torus(0.006274931338621115, 0.0, z=0.0030480885484631508)]  # fmt: skip
     top = PlayTop(0.0037926319955674864, 1.5567157213201374e-07, 3.060310441251321e-08,

@@ -923,22 +923,42 @@ impl Rules<'_> {
     /// contacts left (a part sliding beside a creep took a pull of 0.1 N for 0.2 s, its
     /// friction feeding 1.7 mJ in). Returns the parts lifted off.
     fn lift_pullers(&self, c: &mut Contacts, y: &mut [f64; DIM]) -> u8 {
+        if c.creeping == 0 {
+            return 0;
+        }
         let top = self.top;
-        let round = 1e-12 * top.m * top.g;
+        let f = top.dynamics(c, y, &mut [0.0; DIM]);
+        self.lift_pulled(c, y, f, 1e-12 * top.m * top.g, |c| c.creeping != 0)
+            .0
+    }
+
+    /// The touching part of `c` pulled hardest (its normal force in `f` below `-level`)
+    /// lifts off, the state put on the contacts left and their forces solved again, in turn
+    /// while `go` holds and a part is pulled. Returns the parts lifted off and the last
+    /// forces.
+    fn lift_pulled(
+        &self,
+        c: &mut Contacts,
+        y: &mut [f64; DIM],
+        mut f: Forces,
+        level: f64,
+        go: impl Fn(&Contacts) -> bool,
+    ) -> (u8, Forces) {
+        let top = self.top;
         let mut lifted = 0u8;
-        while c.creeping != 0 {
-            let mut dy = [0.0; DIM];
-            let f = top.dynamics(c, y, &mut dy);
+        while go(c) {
             let pull = (0..top.parts.n)
-                .filter(|&j| c.mode[j] != Mode::Flight && f.n[j] < -round)
+                .filter(|&j| c.mode[j] != Mode::Flight && f.n[j] < -level)
                 .min_by(|&a, &b| f.n[a].total_cmp(&f.n[b]));
             let Some(j) = pull else { break };
             c.mode[j] = Mode::Flight;
             c.creeping &= !(1 << j);
+            c.drilling &= !(1 << j);
             lifted |= 1 << j;
             top.project(c, y);
+            f = top.dynamics(c, y, &mut [0.0; DIM]);
         }
-        lifted
+        (lifted, f)
     }
 
     /// Part `i` of `c`, sliding beside other parts with its slip stopped, and the touching
@@ -1149,19 +1169,9 @@ impl Rules<'_> {
                     // (0.165 N on a 0.26 kg top, floor campaign seed 3's case 3546 at rtol
                     // 1e-8; 0.009 N on a 3.2 g top for 0.7 us, seed 1's 6470 at 1e-6).
                     let mut r = c;
-                    loop {
-                        let pull = (0..n)
-                            .filter(|&j| r.mode[j] != Mode::Flight)
-                            .filter(|&j| f.n[j] < -PULL * top.m * top.g)
-                            .min_by(|&a, &b| f.n[a].total_cmp(&f.n[b]));
-                        let Some(j) = pull else { break };
-                        r.mode[j] = Mode::Flight;
-                        r.creeping &= !(1 << j);
-                        r.drilling &= !(1 << j);
-                        lifted |= 1 << j;
-                        top.project(&r, y);
-                        f = top.dynamics(&r, y, &mut dy);
-                    }
+                    let (left, fr) = self.lift_pulled(&mut r, y, f, PULL * top.m * top.g, |_| true);
+                    lifted |= left;
+                    f = fr;
                     phase.contacts = r;
                 }
             }

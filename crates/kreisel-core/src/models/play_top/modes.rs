@@ -192,10 +192,10 @@ impl PlayTop {
     /// [`Self::flat_support`]): the figure axis exactly vertical (the orientation a turn
     /// about it from upright or from upside down, so that the integration keeps it exactly),
     /// no tilting rate, G at the part's resting height ([`Self::flat_height`]) with no
-    /// vertical velocity, and where `stuck` no sliding and (over a ring or a patch) no spin. The kinetic energy removed
-    /// (a plastic impact of the ring's face on the floor) is added to the dissipated energy;
-    /// where the height's change would raise the energy, the velocities are scaled to keep
-    /// it.
+    /// vertical velocity, and where `stuck` no sliding and (over a ring or a patch) no spin.
+    /// The kinetic energy removed (a plastic impact of the ring's face on the floor) is added
+    /// to the dissipated energy; where the height's change would raise the energy, the
+    /// velocities are scaled to keep it.
     pub fn flat_project(&self, i: usize, y: &mut [f64; DIM], stuck: bool) {
         let before = self.kinetic_energy(y) + self.m * self.g * y[9];
         let k = self.kin(y);

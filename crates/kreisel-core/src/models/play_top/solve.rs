@@ -1616,11 +1616,9 @@ impl PlayTop {
         if m == 1 {
             // One free variable (two parts): solved directly ([`Self::split_1d`]).
             if let Some(c) = self.split_1d(sys, what) {
-                let x = at(&{
-                    let mut c1 = [0.0; U];
-                    c1[0] = c;
-                    c1
-                });
+                let mut along = [0.0; U];
+                along[0] = c;
+                let x = at(&along);
                 if worst(&x) > start {
                     sys.x = x;
                 }
@@ -1708,35 +1706,32 @@ impl PlayTop {
     fn split_1d<const U: usize>(&self, sys: &System<U>, what: &[Unknown; U]) -> Option<f64> {
         let mu = self.friction.mu();
         let rb = self.friction.rbar();
-        // Per part: the normal force (a, b) and the friction's components (x0 part, b part)
-        // in the ellipse's coordinates (the moment over rbar).
+        // Per part: its normal force, tangential force and moment, each as (the part at
+        // x0, the part along b).
         let mut nf = [[0.0; 2]; MAX_PARTS];
         let mut comp = [[[0.0; 2]; 3]; MAX_PARTS];
-        let mut sticks = [false; MAX_PARTS];
+        let (mut list, mut k) = ([0usize; MAX_PARTS], 0);
         for j in 0..sys.n {
             let v = [sys.x[j], sys.basis[0][j]];
             match what[j] {
                 Unknown::StickN(i) => {
                     nf[i] = v;
-                    sticks[i] = true;
+                    list[k] = i;
+                    k += 1;
                 }
                 Unknown::StickT(i, axis) => comp[i][axis] = v,
-                Unknown::StickM(i) if rb > 0.0 => comp[i][2] = [v[0] / rb, v[1] / rb],
-                _ => {}
+                Unknown::StickM(i) => comp[i][2] = v,
+                Unknown::SlipN { .. } => {}
             }
-        }
-        let (mut list, mut k) = ([0usize; MAX_PARTS], 0);
-        for (i, _) in sticks.iter().enumerate().filter(|(_, &st)| st) {
-            list[k] = i;
-            k += 1;
         }
         let parts = &list[..k];
         if parts.is_empty() {
             return None;
         }
+        let at = |e: [f64; 2], c: f64| e[0] + c * e[1];
         let margin = |i: usize, c: f64| {
-            let q: f64 = comp[i].iter().map(|e| (e[0] + c * e[1]).powi(2)).sum();
-            mu * (nf[i][0] + c * nf[i][1]) - q.sqrt()
+            let [tx, ty, m] = comp[i].map(|e| at(e, c));
+            self.cone_margin(at(nf[i], c), [tx, ty], m)
         };
         let smallest = |c: f64| {
             parts
@@ -1746,9 +1741,17 @@ impl PlayTop {
         };
         let mut peaks = [0.0; MAX_PARTS];
         for &i in parts {
-            let (a, b, cc) = comp[i].iter().fold((0.0, 0.0, 0.0), |(a, b, cc), e| {
-                (a + e[1] * e[1], b + e[0] * e[1], cc + e[0] * e[0])
-            });
+            // The friction's squared size in the ellipse's coordinates (the moment over
+            // rbar; none for a point contact), A c^2 + 2 B c + C.
+            let scale = [1.0, 1.0, if rb > 0.0 { 1.0 / rb } else { 0.0 }];
+            let (a, b, cc) =
+                comp[i]
+                    .iter()
+                    .zip(scale)
+                    .fold((0.0, 0.0, 0.0), |(a, b, cc), (e, w)| {
+                        let (e0, e1) = (w * e[0], w * e[1]);
+                        (a + e1 * e1, b + e0 * e1, cc + e0 * e0)
+                    });
             let nb = mu * nf[i][1];
             let d = a - nb * nb;
             if a <= 0.0 || d <= 0.0 {
@@ -1763,21 +1766,13 @@ impl PlayTop {
         {
             return Some(peaks[i]);
         }
-        let lo = parts
-            .iter()
-            .map(|&i| peaks[i])
-            .fold(f64::INFINITY, f64::min);
-        let hi = parts
-            .iter()
-            .map(|&i| peaks[i])
-            .fold(f64::NEG_INFINITY, f64::max);
         if parts.len() == 2 {
             // The crossing of the two margins, bracketed by their peaks.
             let (i, j) = (parts[0], parts[1]);
             let g = |c: f64| margin(i, c) - margin(j, c);
             let (mut a, mut b) = (peaks[i], peaks[j]);
             let ga = g(a);
-            if ga == 0.0 || ga.signum() == g(b).signum() {
+            if ga.signum() == g(b).signum() {
                 return None;
             }
             loop {
@@ -1797,9 +1792,12 @@ impl PlayTop {
             }
             return Some(if smallest(a) >= smallest(b) { a } else { b });
         }
-        // More parts: the concave smallest margin's maximum on [lo, hi] by golden sections.
+        // More parts: the concave smallest margin's maximum between the outermost peaks by
+        // golden sections.
         let r = 0.5 * (5f64.sqrt() - 1.0);
-        let (mut a, mut b) = (lo, hi);
+        let peak = |&i: &usize| peaks[i];
+        let mut a = parts.iter().map(peak).fold(f64::INFINITY, f64::min);
+        let mut b = parts.iter().map(peak).fold(f64::NEG_INFINITY, f64::max);
         for _ in 0..200 {
             if b - a <= 4.0 * f64::EPSILON * a.abs().max(b.abs()) {
                 break;
@@ -1844,7 +1842,11 @@ impl PlayTop {
         let n = self.m * self.g;
         f.n[i] = n;
         f.den[i] = 1.0 / self.m;
-        let r = self.flat_radius(i);
+        // The law acts over a ring's rim; on a pole at its one point.
+        let r = match *self.part(i) {
+            Shape::Torus { major, .. } => major,
+            _ => 0.0,
+        };
         // Resistance torques about the vertical (the horizontal ones are taken by the floor).
         let resistance = || {
             let (res_n, res_0) = self.resistance_at(k.wb, k.to_body(EZ), self.reach());
@@ -1852,7 +1854,7 @@ impl PlayTop {
         };
         let u = k.e3[2].signum();
         if c.mode[i] == Mode::Roll {
-            if r == 0.0 {
+            if self.flat_radius(i) == 0.0 {
                 // Stuck on a point (a pole, no patch): it spins on, slowed by the resistance
                 // torques alone.
                 let res = resistance();
@@ -1879,11 +1881,7 @@ impl PlayTop {
             }
             Friction::CoulombContensou { .. } => {
                 // A ring's rim by 64 points; a pole's patch at its one point.
-                let (nq, r) = if matches!(self.part(i), Shape::Torus { .. }) {
-                    (64, r)
-                } else {
-                    (1, 0.0)
-                };
+                let nq = if r > 0.0 { 64 } else { 1 };
                 let w = n / nq as f64;
                 for j in 0..nq {
                     let phi = (j as f64 + 0.5) * std::f64::consts::TAU / nq as f64;
@@ -2107,6 +2105,24 @@ mod tests {
                 };
                 cases += 1;
                 let Some(c) = top.split_1d(&sys, &what) else {
+                    // Only where some part's margin grows without bound along the null
+                    // vector (its normal force's cone outgrows its friction) is the split
+                    // left to the search.
+                    let margin = |i: usize, c: f64| {
+                        let at = |r: usize| sys.x[4 * i + r] + c * sys.basis[0][4 * i + r];
+                        top.cone_margin(at(0), [at(1), at(2)], at(3))
+                    };
+                    let unbounded = (0..parts).any(|i| {
+                        [-1.0, 1.0].iter().any(|&d| {
+                            let (m0, m1, m2) =
+                                (margin(i, 0.0), margin(i, d * 1e4), margin(i, d * 1e8));
+                            m2 > m1 && m1 > m0
+                        })
+                    });
+                    assert!(
+                        unbounded,
+                        "parts {parts}: no split though every margin has a peak"
+                    );
                     continue;
                 };
                 solved += 1;

@@ -281,19 +281,30 @@ impl PlayTop {
             // resting on a 3 mm spheroid, its spin stopped, did so at 4e7 /s, holding the
             // explicit steps to 1e-7 s (3.6 million rows in 0.3 s: floor campaign case 2330 of
             // seed 2; 6756 and 4814 of seed 1 were refused at 4 million rows).
-            // (One square root: the top's time scale sqrt(len / g).)
-            let time = (len / self.g).sqrt();
-            let reg = (1e-6 / time).max(1e-9);
-            let per_rate = RESIST_TIME * time * self.m * self.g / self.a.min(self.c);
+            let [rolling, drilling] = self.resist_bands(len);
             per_n = add(
-                scale(-self.rolling / h.max(reg).max(self.rolling * per_rate), wh),
-                scale(
-                    -self.drilling * wz / wz.abs().max(reg).max(self.drilling * per_rate),
-                    gamma,
-                ),
+                scale(-self.rolling / h.max(rolling), wh),
+                scale(-self.drilling * wz / wz.abs().max(drilling), gamma),
             );
         }
         (per_n, scale(-self.air, w))
+    }
+
+    /// The rates (rad/s) below which the rolling and the drilling resistance's laws are
+    /// linear ([`PlayTop::resistance_at`]), `len` setting the rate scale: each is at least
+    /// 1e-6 sqrt(g / len), and at least the rate at which the linear law's relaxation time, at
+    /// the top's weight and its smallest moment, is `RESIST_TIME sqrt(len / g)`. The law has a
+    /// kink there, where a phase restarts ([`super::driver::Switch::Band`]).
+    #[inline(always)]
+    pub(crate) fn resist_bands(&self, len: f64) -> [f64; 2] {
+        // (One square root: the top's time scale sqrt(len / g).)
+        let time = (len / self.g).sqrt();
+        let reg = (1e-6 / time).max(1e-9);
+        let per_rate = RESIST_TIME * time * self.m * self.g / self.a.min(self.c);
+        [
+            reg.max(self.rolling * per_rate),
+            reg.max(self.drilling * per_rate),
+        ]
     }
 
     /// The level of sliding's own coefficient (1/kg) at which a sliding contact is taken to

@@ -1130,6 +1130,19 @@ fn run<const N: usize>(
         let Some((switch, record)) = reason.filter(|_| t < t_end) else {
             break;
         };
+        if matches!(switch, Switch::Band(_)) {
+            // A resistance's kink: the right-hand side is continuous there, so the tangents
+            // go on unchanged (no saltation); only the integration restarts.
+            info.events.remove(record);
+            phase = h.apply(switch, &phase, &mut y);
+            n_switches += 1;
+            if n_switches > 200_000 {
+                return Err(KreiselError::Numerical(format!(
+                    "play top: more than 200000 mode switches before t = {t} (chattering)"
+                )));
+            }
+            continue;
+        }
         if matches!(
             switch,
             Switch::Jam(_)

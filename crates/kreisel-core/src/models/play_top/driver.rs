@@ -219,6 +219,21 @@ pub const CREEP_STICK: f64 = 1e-3;
 /// the stick speed ([`Rules::tolerance`]): a creep ends above the speed it sticks at.
 pub const CREEP_EXIT: f64 = 10.0;
 
+/// The most creep realignments ([`Switch::CreepEnd`] turning the slip back onto the creep's
+/// direction) in a row, each within [`REALIGN_QUICK`] of the last and no other switch
+/// between: the next hands the part to its law. A creep whose slip turns away again at once
+/// is not consistent there: a 2.7 g top on a torus under Coulomb-Contensou friction with
+/// rolling and drilling resistance had its creep's slip (of 1e-8 m/s, at 8 stick speeds)
+/// turned across it within 1.3e-8 s, 200000 times, until the run was refused as chattering
+/// (the floor campaign's case 8713 of seed 17). Euler's disk under point Coulomb friction
+/// (benchmark T4) realigns its creeps more slowly: unchanged.
+pub const REALIGN_MAX: u32 = 64;
+
+/// The interval (in units of the top's time `sqrt(reach / g)`) within which a creep's
+/// realignment follows the last to count as quick ([`REALIGN_MAX`]): 1e-5 (5e-7 s on the top
+/// of case 8713, whose realignments followed each other within 1.3e-8 s).
+pub const REALIGN_QUICK: f64 = 1e-5;
+
 /// The slip (as a multiple of the stick speed) that a drilling part's friction may need
 /// before the part slides on under its law ([`Contacts::drilling`]); it starts drilling only
 /// where the slip needed is at most [`DRILL_ENTRY`] stick speeds.
@@ -247,8 +262,8 @@ pub const FLAT_LEVEL: f64 = 1e-4;
 /// Euler's disk (benchmark T4) comes down on a force near its weight and is unchanged.
 pub const FLAT_FORCE: f64 = 100.0;
 
-/// The inclination's sine below which a ring part pressed by more than [`FLAT_FORCE`] weights
-/// whose steps crawl (the mean of the last 512 below [`HELD_PACE`] of the top's time) lands
+/// The inclination's sine below which a ring part pressed by more than [`FLAT_HELD_FORCE`]
+/// weights whose steps stall (the mean of the last 512 below [`FLAT_PACE`] of the top's time) lands
 /// flat (Euler's disk, benchmark T4, comes down on a force near its weight, its steps
 /// crawling at the end under Coulomb-Contensou friction: unchanged). Coming down nearly level with its
 /// horizontal spin kept (a ring upside down, slapping down), the contact point races round the
@@ -257,6 +272,13 @@ pub const FLAT_FORCE: f64 = 100.0;
 /// stalled (floor campaign seed 5, cases 286 and 2045). The rim's two sides are then within
 /// 2 FLAT_HELD of its radius of the floor; the landing is the plastic impact of its face.
 pub const FLAT_HELD: f64 = 1e-2;
+
+/// The normal force (in weights `m g`) beyond which a ring within [`FLAT_HELD`] whose steps
+/// stall lands flat: ten weights, the ring's face slapping down (a 175 g top rolling on a
+/// sharp rim of 12.8 mm came down pressed by 63 weights, its tilt at 1.4e-4 and falling, its
+/// steps at 2e-11 s, and was refused as stalled: the floor campaign's case 8633 of seed 13).
+/// Euler's disk (benchmark T4) comes down on a force near its weight: unchanged.
+pub const FLAT_HELD_FORCE: f64 = 10.0;
 
 /// The mean step (of the last 512, in units of the top's time `sqrt(reach / g)`) below which
 /// a ring within [`FLAT_HELD`] lands flat: a thousandth of [`HELD_PACE`]. The stalled runs'
@@ -358,6 +380,21 @@ pub(crate) struct Rules<'a> {
     /// `band_crossed`): its located state lies within rounding of the kink.
     pub band: Cell<[f64; 2]>,
     pub band_crossed: Cell<u8>,
+    /// The parts whose located switch to drilling was refused (bit mask): their
+    /// [`Switch::SlipToDrill`] is not watched again until another switch
+    /// ([`Rules::apply`]). The slip that refusal left sliding can fall on through the stick
+    /// speed, the switch located and refused again at once: a 55 g torus upside down, nearly
+    /// flat under Coulomb-Contensou friction, its friction needing 2.8 stick speeds of slip
+    /// (above [`DRILL_ENTRY`]) while its slip fell through one, took that switch every
+    /// 1e-11 s until refused as stalled (the floor campaign's case 8547 of seed 16 at rtol
+    /// 1e-6). A slide held there is still ended by [`Rules::held_switch`].
+    pub drill_refused: Cell<u8>,
+    /// The creep realignments ([`Switch::CreepEnd`] turning the slip back onto the creep's
+    /// direction) in a row, each within [`REALIGN_QUICK`] of the last, no other switch
+    /// between, and the time of the last: past [`REALIGN_MAX`] the creep ends.
+    pub realigns: Cell<(u32, f64)>,
+    /// The time of the switch being applied, set by the run around [`Rules::apply`].
+    pub now: Cell<f64>,
 }
 
 /// A located event's state `y` (the step's dense output, which unlike the step's end is not
@@ -467,6 +504,9 @@ impl<'a> Rules<'a> {
             unlocated: Cell::new(false),
             band: Cell::new([1.0; 2]),
             band_crossed: Cell::new(0),
+            drill_refused: Cell::new(0),
+            realigns: Cell::new((0, f64::NEG_INFINITY)),
+            now: Cell::new(0.0),
         }
     }
 
@@ -705,7 +745,9 @@ impl Rules<'_> {
                     if self.creeps(&phase.contacts, i) {
                         out.push(Switch::CreepEnd(i));
                     }
-                    if self.may_drill(&phase.contacts, i) {
+                    if self.may_drill(&phase.contacts, i)
+                        && self.drill_refused.get() & (1 << i) == 0
+                    {
                         out.push(Switch::SlipToDrill(i));
                     }
                     if jam {
@@ -1259,6 +1301,12 @@ impl Rules<'_> {
         let top = self.top;
         let n = top.parts.n;
         let mut c = phase.contacts;
+        if !matches!(sw, Switch::Band(_)) {
+            self.drill_refused.set(0);
+        }
+        if !matches!(sw, Switch::Band(_) | Switch::CreepEnd(_)) {
+            self.realigns.set((0, f64::NEG_INFINITY));
+        }
         match sw {
             Switch::Band(j) => {
                 // Only the integration restarts, on the other side of the kink.
@@ -1440,6 +1488,9 @@ impl Rules<'_> {
                     return self.apply(Switch::SlipToRoll(i), phase, y);
                 }
                 if !self.try_drill(&mut c, i, y, eps, limit) {
+                    if !self.unlocated.get() {
+                        self.drill_refused.set(1 << i);
+                    }
                     top.project(&c, y);
                 }
                 Phase {
@@ -1476,7 +1527,16 @@ impl Rules<'_> {
                     return ph;
                 }
                 let (size, _) = top.creep_slip(&c, i, y);
-                if !self.unlocated.get() && size < 0.5 * self.creep_exit(y, self.tolerance(y)) {
+                // Realignments in a row, each within REALIGN_QUICK of the top's time of the last.
+                let (count, last) = self.realigns.get();
+                let now = self.now.get();
+                let quick = REALIGN_QUICK * (top.reach() / top.g).sqrt();
+                let count = if now - last <= quick { count + 1 } else { 1 };
+                if !self.unlocated.get()
+                    && count <= REALIGN_MAX
+                    && size < 0.5 * self.creep_exit(y, self.tolerance(y))
+                {
+                    self.realigns.set((count, now));
                     // The slip turned away from the creep's direction: its component across
                     // it is damped at once, as the law would in a time of |slip| / (mu g),
                     // and the part creeps on (unless the slip kept lies past its range).
@@ -1707,15 +1767,15 @@ impl Rules<'_> {
     fn held_switch(&self, phase: &Phase, y: &[f64; DIM], pace: f64) -> Option<Switch> {
         let k = self.top.kin(y);
         let c = &phase.contacts;
-        // A ring coming down nearly level, pressed by more than FLAT_FORCE weights: it lands
-        // flat ([`FLAT_HELD`]).
+        // A ring coming down nearly level, pressed by more than FLAT_HELD_FORCE weights: it
+        // lands flat ([`FLAT_HELD`]).
         let tilt = (1.0 - k.e3[2] * k.e3[2]).max(0.0).sqrt();
         let ring = |i: usize| self.ring_on(c, i);
         let stalled = FLAT_PACE * (self.top.reach() / self.top.g).sqrt();
         if tilt <= FLAT_HELD && pace < stalled && (0..self.top.parts.n).any(ring) {
             let mut dy = [0.0; DIM];
             let f = self.top.dynamics(c, y, &mut dy);
-            let pressed = FLAT_FORCE * self.top.m * self.top.g;
+            let pressed = FLAT_HELD_FORCE * self.top.m * self.top.g;
             // Flat (u = +-1) with ring i on the floor, every other part must be above it: a
             // part the turn would sink is the floor's next contact, not the ring's face.
             let u = k.e3[2].signum();
@@ -2178,6 +2238,7 @@ pub(crate) fn drive(
             settings.events.iter().map(|e| value(e.kind, &y)).collect();
         let e_before = ledger(top, &y);
         h.unlocated.set(forced.is_some());
+        h.now.set(t);
         phase = h.apply(switch, &phase, &mut y);
         h.unlocated.set(false);
         no_energy_from_a_switch(top, &mut y, e_before);

@@ -535,11 +535,8 @@ impl<'a> Rules<'a> {
     /// pole reaching below the ring's plane carries the top): sliding, or stuck where its
     /// sliding is within the tolerance and its law can stick; `y` put on the flat contact.
     fn lie_flat(&self, i: usize, y: &mut [f64; DIM]) -> Phase {
-        let top = self.top;
-        let i = top.flat_support(i, y);
-        let stuck = top.friction.can_stick() && top.flat_slide(i, y) <= self.tolerance(y);
-        let contacts = top.flat_contacts(i, stuck);
-        top.project(&contacts, y);
+        let contacts = self.flat_on(i, y, self.tolerance(y));
+        self.top.project(&contacts, y);
         Phase {
             contacts,
             hop: f64::INFINITY,
@@ -575,6 +572,15 @@ impl<'a> Rules<'a> {
 
     /// After an impulse: the parts touching and not separating resolved into modes, the
     /// rest in flight; the bounce's expected flight time.
+    /// The contacts of ring `i` lying flat at `y` (on the part that reaches lowest there,
+    /// [`PlayTop::flat_support`]): stuck where it can stick and its sliding is within the
+    /// stick speed `eps`, else sliding.
+    fn flat_on(&self, i: usize, y: &[f64; DIM], eps: f64) -> Contacts {
+        let top = self.top;
+        let i = top.flat_support(i, y);
+        top.flat_contacts(i, top.friction.can_stick() && top.flat_slide(i, y) <= eps)
+    }
+
     fn after_impulse(&self, y: &mut [f64; DIM], prev: &Contacts) -> Phase {
         let top = self.top;
         let l = top.reach();
@@ -600,7 +606,7 @@ impl<'a> Rules<'a> {
             .lying_flat(y, 1e-9 * l)
             .filter(|&i| cand & (1 << i) != 0);
         let mut contacts = if let Some(i) = flat {
-            top.flat_contacts(i, top.friction.can_stick() && top.flat_slide(i, y) <= eps)
+            self.flat_on(i, y, eps)
         } else if cand == 0 {
             Contacts::NONE
         } else {

@@ -2010,7 +2010,7 @@ fn part_event(name: &'static str, t: f64, i: usize) -> EventRecord {
 
 /// `E + dissipated` at `y` (J): kinetic and potential energy and the energy dissipated so far,
 /// conserved along a phase and never raised by a switch.
-fn ledger(top: &PlayTop, y: &[f64; DIM]) -> f64 {
+pub(crate) fn ledger(top: &PlayTop, y: &[f64; DIM]) -> f64 {
     top.kinetic_energy(y) + top.m * top.g * y[9] + y[13]
 }
 
@@ -2018,7 +2018,7 @@ fn ledger(top: &PlayTop, y: &[f64; DIM]) -> f64 {
 /// it leaves is put on the floor from the located state a hair below it
 /// ([`PlayTop::touchdown_offset`]), which raises the potential energy by `m g offset`, and
 /// its projections round: the difference from `before` is shed ([`PlayTop::shed_energy`]).
-fn no_energy_from_a_switch(top: &PlayTop, y: &mut [f64; DIM], before: f64) {
+pub(crate) fn no_energy_from_a_switch(top: &PlayTop, y: &mut [f64; DIM], before: f64) {
     let now = ledger(top, y);
     top.shed_energy(y, now - before);
 }

@@ -55,7 +55,7 @@
 // tangents are written component by component (their blocks mean different things)
 #![allow(clippy::needless_range_loop)]
 
-use super::driver::{Phase, Rules, Switch};
+use super::driver::{ledger, no_energy_from_a_switch, Phase, Rules, Switch};
 use super::simulate::PlayRow;
 use super::solve::{Consts, Kernel};
 use super::{Friction, PlayTop, Shape, DIM};
@@ -511,16 +511,6 @@ pub struct PlaySensitivitySolution {
     pub info: RunInfo,
 }
 
-/// `E + dissipated` kept across a switch (what the driver does after every switch).
-fn keep_energy(top: &PlayTop, y: &mut [f64; DIM], before: f64) {
-    let now = top.kinetic_energy(y) + top.m * top.g * y[9] + y[13];
-    top.shed_energy(y, now - before);
-}
-
-fn total_energy(top: &PlayTop, y: &[f64; DIM]) -> f64 {
-    top.kinetic_energy(y) + top.m * top.g * y[9] + y[13]
-}
-
 /// The coordinates the initial state is built from (see [`PLAY_FIELDS`]).
 #[derive(Debug, Clone, Copy)]
 struct Start {
@@ -727,9 +717,9 @@ fn moved_tops(
 fn started(top: &PlayTop, y: &[f64; DIM], rtol: f64) -> (Phase, Option<Switch>, [f64; DIM]) {
     let rules = Rules::for_run(top, rtol);
     let mut y = *y;
-    let e = total_energy(top, &y);
+    let e = ledger(top, &y);
     let (phase, jam) = rules.start(&mut y);
-    keep_energy(top, &mut y, e);
+    no_energy_from_a_switch(top, &mut y, e);
     (phase, jam, y)
 }
 
@@ -811,9 +801,9 @@ fn saltation(
     // The switch's map, the driver's: the switch, then E + dissipated kept.
     let jump = |r: &Rules<'_>, yy: &[f64; DIM]| {
         let mut yy = *yy;
-        let e = total_energy(r.top, &yy);
+        let e = ledger(r.top, &yy);
         let next = r.apply(sw, phase, &mut yy);
-        keep_energy(r.top, &mut yy, e);
+        no_energy_from_a_switch(r.top, &mut yy, e);
         (next, yy)
     };
     let (next, y1) = jump(rules, y);
@@ -946,9 +936,9 @@ fn run<const N: usize>(
     let rtol = settings.rtol;
     let mut info = RunInfo::default();
     let mut y = *y0;
-    let e_given = total_energy(top, &y);
+    let e_given = ledger(top, &y);
     let (mut phase, jam) = h.start(&mut y);
-    keep_energy(top, &mut y, e_given);
+    no_energy_from_a_switch(top, &mut y, e_given);
     if let Some(sw) = jam {
         return Err(unsupported(sw.name(), 0.0));
     }
@@ -1158,9 +1148,9 @@ fn run<const N: usize>(
         }
         let (s_jump, theta) = saltation(&h, sens, switch, &ph, eps, &y, &s, t, rtol)?;
         let before = h.row(&phase, &y).contacts.mode;
-        let e_before = total_energy(top, &y);
+        let e_before = ledger(top, &y);
         phase = h.apply(switch, &phase, &mut y);
-        keep_energy(top, &mut y, e_before);
+        no_energy_from_a_switch(top, &mut y, e_before);
         if let Some(i) = slip_from_rest(top, &phase, &y) {
             return Err(unsupported(
                 &format!("{} (part {i} starts sliding from rest)", switch.name()),

@@ -1635,3 +1635,32 @@ def test_a_creep_whose_slip_turns_away_at_once_is_handed_to_its_law():
     assert creeps[1][1] - creeps[0][1] < 1e-6
     assert part_gaps(parts, tr).min() >= -1e-9
     _ledger_kept(tr, 1e-10)
+
+
+def test_a_slip_that_stops_within_a_phases_first_step_is_not_stepped_through():
+    """Floor campaign, seed 19, case 4290 at rtol 1e-6: a 0.3 kg top of four parts dropped
+    upside down, spinning, under Coulomb-Contensou friction. After a run of bounces its ring
+    came to slide at 9e-4 m/s, a slip that stops within about 6e-5 s; the starting-step
+    heuristic (two evaluations of the motion) chose 1.4e-4 s, DOP853's error estimate
+    passed the step through the stop, and E + dissipated rose by 5.2e-5 of the energy.
+    A phase's first step is at most a quarter of the time a decelerating slip takes to stop.
+    Checked: E + dissipated never rises by more than rtol of the start's (it rose by 5e-9),
+    every part above the floor."""
+    parts = [Torus(0.013490846044981424, 0.00298884389178889, z=0.002159061575088786),
+             Sphere(0.015216187686903714, z=-0.0004806544564623632),
+             Torus(0.02161036275382797, 0.0, z=-0.006339061560046816),
+             Sphere(0.003560463864941634, z=0.022673065873584343)]  # fmt: skip
+    top = PlayTop(0.29976527491430166, 3.3265272210353746e-05, 2.5541150437882398e-05,
+                  shape=parts,
+                  friction=CoulombContensou(0.9009365943290255, 4.62849601998314e-05),
+                  restitution=0.6838274012561539,
+                  rolling_resistance=0.00012762322267329077)  # fmt: skip
+    st = top.state(theta=math.pi, phi=0.9893410096256464, psi=1.4140707558057273,
+                   theta_dot=15.016883018687563, psi_dot=64.14502405030738,
+                   vx=0.5592829119585465)  # fmt: skip
+    tr = kreisel.simulate(top, st, 0.3, events=[kreisel.events.rest()], rtol=1e-6)
+    assert tr.status == "completed"
+    total = np.asarray(tr.energy) + np.asarray(tr.dissipated)
+    assert (total - total[0]).max() <= 1e-6 * total[0]
+    assert np.diff(tr.dissipated).min() >= -1e-6 * total[0]
+    assert part_gaps(parts, tr).min() >= -1e-9

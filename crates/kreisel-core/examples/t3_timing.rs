@@ -1,6 +1,7 @@
 //! Times benchmark case T3 in the core alone (kreisel's side): MuJoCo's tutorial tippe top as
 //! two spheres under Coulomb-Contensou friction, 7 s. `cargo run --release --example
-//! t3_timing [rtol]`; under `valgrind --tool=callgrind` it counts instructions.
+//! t3_timing [rtol]`; under `valgrind --tool=callgrind` it counts instructions. With
+//! `T3_EVENTS=1` it prints the events (name, part, time) before the counts.
 use kreisel_core::models::play_top::{Friction, PlayTop, Shape};
 use kreisel_core::rotation::{omega_body_from_euler, quaternion_from_euler};
 use kreisel_core::simulate::{simulate, Settings};
@@ -35,6 +36,11 @@ fn main() {
     };
     let t0 = Instant::now();
     let out = simulate(&top, &y, &st, &mut [], &mut |_| true).unwrap();
+    if std::env::var("T3_EVENTS").is_ok() {
+        for e in &out.info.events {
+            println!("{} {:?} {:.6}", e.name, e.part, e.t);
+        }
+    }
     println!(
         "{:?} steps {} rhs {} events {}",
         t0.elapsed(),

@@ -484,6 +484,7 @@ fn h_max_and_fixed_steps_via_h_init() {
         rtol: 1e10,
         atol: 1e10,
         h_init: Some(0.1),
+        h_first_max: f64::INFINITY,
         h_max: 0.1,
         max_steps: 1000,
         stiff_stop: None,
@@ -509,6 +510,30 @@ fn h_max_and_fixed_steps_via_h_init() {
         .ts
         .windows(2)
         .all(|w| w[1] - w[0] <= 0.3 * (1.0 + 1e-12)));
+}
+
+#[test]
+fn the_first_step_is_capped_and_the_rest_grow_as_before() {
+    // The heuristic's first step on the oscillator at rtol 1e-6 is well above 1e-4; capped,
+    // the first step is 1e-4 and the controller grows the next ones from there.
+    let free = Dop853::new(1e-6, 1e-6);
+    let mut rec = EveryStep::new();
+    free.integrate(&Oscillator, 0.0, [1.0, 0.0], 2.0, &mut rec)
+        .unwrap();
+    assert!(rec.ts[1] - rec.ts[0] > 1e-3);
+    let capped = Dop853 {
+        h_first_max: 1e-4,
+        ..free
+    };
+    let mut rec = EveryStep::new();
+    let (t, y, _) = capped
+        .integrate(&Oscillator, 0.0, [1.0, 0.0], 2.0, &mut rec)
+        .unwrap();
+    assert_eq!(t, 2.0);
+    assert!((rec.ts[1] - rec.ts[0] - 1e-4).abs() < 1e-18);
+    assert!(rec.ts.windows(2).skip(1).any(|w| w[1] - w[0] > 1e-3));
+    // the solution, cos t, to the tolerance
+    assert!((y[0] - 2.0f64.cos()).abs() < 1e-5);
 }
 
 #[test]

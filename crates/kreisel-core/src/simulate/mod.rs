@@ -300,6 +300,7 @@ impl Settings {
             rtol: self.rtol,
             atol: self.atol,
             h_init: None,
+            h_first_max: f64::INFINITY,
             h_max: f64::INFINITY,
             max_steps: MAX_STEPS,
             stiff_stop: None,

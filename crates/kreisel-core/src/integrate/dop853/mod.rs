@@ -82,6 +82,10 @@ pub struct Dop853 {
     pub atol: f64,
     /// First step size; `None` selects it with Hairer's `hinit` heuristic.
     pub h_init: Option<f64>,
+    /// Largest first step (`f64::INFINITY` for no limit): caps `h_init` or the heuristic's
+    /// choice, for a caller that knows the motion turns sooner than the heuristic's two
+    /// evaluations show (a sliding contact whose slip stops within the first step).
+    pub h_first_max: f64,
     /// Largest step size (`f64::INFINITY` for no limit; never more than `t_end - t0`).
     pub h_max: f64,
     /// Largest number of step attempts (accepted + rejected), like `NMAX` of `dop853.f`.
@@ -109,6 +113,7 @@ impl Default for Dop853 {
             rtol: 1e-8,
             atol: 1e-10,
             h_init: None,
+            h_first_max: f64::INFINITY,
             h_max: f64::INFINITY,
             max_steps: 100_000,
             stiff_stop: None,
@@ -418,7 +423,8 @@ impl Dop853 {
                 ERR_EXPONENT,
                 &mut stats,
             ),
-        };
+        }
+        .min(self.h_first_max);
 
         let mut rejected_last = false;
         let mut nonfinite_last = false;

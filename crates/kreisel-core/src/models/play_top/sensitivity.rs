@@ -965,6 +965,7 @@ fn run<const N: usize>(
             rtol,
             atol: settings.atol,
             h_init: None,
+            h_first_max: f64::INFINITY,
             h_max: h.max_step(&phase, &y),
             max_steps: MAX_STEPS,
             stiff_stop: None,

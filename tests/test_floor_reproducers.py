@@ -1664,3 +1664,29 @@ def test_a_slip_that_stops_within_a_phases_first_step_is_not_stepped_through():
     assert (total - total[0]).max() <= 1e-6 * total[0]
     assert np.diff(tr.dissipated).min() >= -1e-6 * total[0]
     assert part_gaps(parts, tr).min() >= -1e-9
+
+
+def test_a_drilling_patch_whose_rate_turns_through_zero_in_a_step_sticks():
+    """Floor campaign, seed 5, case 8090: a 3.9 g top of a torus and two spheres rolling on
+    its torus under Coulomb-Contensou friction with drilling and rolling resistance, its
+    patch drilling at about 1.6e-5 rad/s. The drilling's end was located where
+    rbar |w_n| falls to the stick speed, which dips below zero only within 2e-7 rad/s of
+    w_n = 0: a step of 1.6e-6 s carried the rate from -1.6e-5 to 1.6e-4 rad/s unseen, the
+    patch's torque turned round within it, and the part went from drilling to sliding and
+    back hundreds of times (15 547 steps), E + dissipated rising by 1.5e-8 of the energy.
+    The drilling's end is located on the rate signed as at the phase's start: the patch
+    sticks. Checked: E + dissipated, every part above the floor, the run's steps."""
+    parts = [Torus(0.006722999823336121, 0.0027589965088848467, z=-0.002065450499955629),
+             Sphere(0.00122616812525154, z=0.01339642777377992),
+             Sphere(0.0, z=0.002878752207958522)]  # fmt: skip
+    top = PlayTop(0.0039444665271388514, 1.4468993063131302e-07, 1.760079131202634e-07,
+                  shape=parts,
+                  friction=CoulombContensou(0.6825486441882768, 0.00019677194239432503),
+                  restitution=0.5679808580242269, rolling_resistance=1.0303978563556022e-05,
+                  drilling_resistance=0.0005230747387996042)  # fmt: skip
+    st = top.state(theta=math.pi / 2, phi=2.879380046866597, psi=0.724242451992935,
+                   psi_dot=7.221104779177102)  # fmt: skip
+    tr = kreisel.simulate(top, st, 0.3, events=[kreisel.events.rest()])
+    assert tr.status == "completed" and tr.stats["steps"] < 3_000
+    _ledger_kept(tr, 1e-10)
+    assert part_gaps(parts, tr).min() >= -1e-9

@@ -380,6 +380,14 @@ pub(crate) struct Rules<'a> {
     /// `band_crossed`): its located state lies within rounding of the kink.
     pub band: Cell<[f64; 2]>,
     pub band_crossed: Cell<u8>,
+    /// The sign of the drilling rate (`w_n`) at the phase's start: a drilling part's
+    /// [`Switch::DrillEnd`] is located where the rate, so signed, falls to the stick speed,
+    /// so that a step that carries it through zero (where the patch's torque turns round)
+    /// cannot pass unseen: `rbar |w_n| - eps` dips below zero only within `2 eps / rbar`
+    /// of it, and a drilling patch's rate went from -1.6e-5 to 1.6e-4 rad/s in one step of
+    /// 1.6e-6 s, hundreds of times, each adding 1e-14 J (the floor campaign's case 8090 of
+    /// seed 5: E + dissipated 1.5e-8 of the energy above the start's).
+    pub drill_sign: Cell<f64>,
     /// The parts whose located switch to drilling was refused (bit mask): their
     /// [`Switch::SlipToDrill`] is not watched again until another switch
     /// ([`Rules::apply`]). The slip that refusal left sliding can fall on through the stick
@@ -504,6 +512,7 @@ impl<'a> Rules<'a> {
             unlocated: Cell::new(false),
             band: Cell::new([1.0; 2]),
             band_crossed: Cell::new(0),
+            drill_sign: Cell::new(1.0),
             drill_refused: Cell::new(0),
             realigns: Cell::new((0, f64::NEG_INFINITY)),
             now: Cell::new(0.0),
@@ -811,7 +820,9 @@ impl Rules<'_> {
                 let vp = top.parts.shape[i].point_velocity(k.v, k.w, k.e3);
                 vp[0].hypot(vp[1]) - eps
             }
-            Switch::DrillEnd(_) => top.friction.rbar() * top.kin(y).w[2].abs() - eps,
+            Switch::DrillEnd(_) => {
+                top.friction.rbar() * top.kin(y).w[2] * self.drill_sign.get() - eps
+            }
             Switch::Band(j) => {
                 let w = top.kin(y).w;
                 let rate = if j == 0 { w[0].hypot(w[1]) } else { w[2].abs() };
@@ -1143,8 +1154,9 @@ impl Rules<'_> {
         let n = top.parts.n;
         *self.last.borrow_mut() = Solved::NONE;
         phase.contacts.creep = eps;
-        // The side of each resistance's kink the phase starts on.
+        // The side of each resistance's kink the phase starts on, and the drilling's sign.
         let w = top.kin(y).w;
+        self.drill_sign.set(if w[2] < 0.0 { -1.0 } else { 1.0 });
         let rates = [w[0].hypot(w[1]), w[2].abs()];
         let bands = top.resist_bands(top.reach());
         let (mut side, crossed) = (self.band.get(), self.band_crossed.replace(0));

@@ -1690,3 +1690,31 @@ def test_a_drilling_patch_whose_rate_turns_through_zero_in_a_step_sticks():
     assert tr.status == "completed" and tr.stats["steps"] < 3_000
     _ledger_kept(tr, 1e-10)
     assert part_gaps(parts, tr).min() >= -1e-9
+
+
+def test_a_part_starting_a_phase_at_zero_force_lifts_off_when_it_would_be_pulled():
+    """Floor campaign, seed 22 at t_end 5 s, case 72: a 0.33 kg top of three rings and a
+    sphere rolling on its sphere and its wide sharp rim under Coulomb-Contensou friction.
+    At 1.6025 s the rim was set sliding with its normal force at -0 N; its lift-off (the
+    force falling through zero) was watched from there, never crossed from above, and the
+    floor pulled the rim by up to 0.114 N for 31 ms. A part that starts a phase at zero
+    force or a pull within rounding has its lift-off located a hair below where it starts.
+    Checked: no touching part pulled beyond 1e-9 of the weight (as the campaign checks),
+    every part above the floor, E + dissipated never rising."""
+    parts = [Torus(0.007662869470744073, 0.0, z=-0.005870039266783922),
+             Torus(0.006964834233943418, 0.0011808659244683126, z=-0.005010534819197318),
+             Torus(0.02439309444565472, 0.0, z=0.007214342846104602),
+             Sphere(0.020234585292585365, z=0.009049860356529483)]  # fmt: skip
+    top = PlayTop(0.33008678229463184, 8.674931019657507e-05, 0.0001395606781579578,
+                  shape=parts,
+                  friction=CoulombContensou(0.9568527799103461, 9.815621986719921e-05),
+                  rolling_resistance=0.0006184664613445388)  # fmt: skip
+    st = top.state(theta=math.pi / 2, theta_dot=-0.1917104085558792,
+                   psi_dot=34.21335007895856)  # fmt: skip
+    tr = kreisel.simulate(top, st, 1.7, events=[kreisel.events.rest()])
+    assert tr.status == "completed"
+    force = np.asarray(tr.part_normal_force)
+    touching = np.asarray(tr.part_in_contact).reshape(force.shape).astype(bool)
+    assert force[touching].min() >= -1e-9 * top.m * G
+    assert part_gaps(parts, tr).min() >= -1e-9
+    _ledger_kept(tr, 1e-10)

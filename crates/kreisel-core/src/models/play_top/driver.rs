@@ -349,7 +349,12 @@ pub struct Phase {
 /// below it, by the rounding of their constraints), so that every touchdown event function
 /// starts positive. `slack` does the same for a sticking part's cone margin: a part that
 /// sticks from where its friction is at the cone's edge starts the phase at a margin of
-/// zero, to rounding. `jam` does the same for a sliding part's jam event (its sliding
+/// zero, to rounding. `lift` does the same for a touching part's normal force: a part that
+/// starts the phase at a force of zero or a pull within [`PULL`] (a part set sliding at its
+/// lift-off's threshold) has its lift-off located where the force falls [`PULL`] weights
+/// below where it starts: at a start of -0 N, the function never crossed from above, and a
+/// 0.33 kg top's rim was pulled by up to 0.114 N for 31 ms before it left (the floor
+/// campaign's seed 22 at t_end 5 s, case 72). `jam` does the same for a sliding part's jam event (its sliding
 /// coefficient's level and its normal force's cap, [`Switch::Jam`]): a phase that starts
 /// beyond either (a switch left a part sliding with its normal force already past the cap,
 /// or its coefficient below the level) watches for them halving (the coefficient) or
@@ -366,6 +371,7 @@ pub(crate) struct Rules<'a> {
     pub last: RefCell<Solved>,
     pub floor: Cell<[f64; super::MAX_PARTS]>,
     pub slack: Cell<[f64; super::MAX_PARTS]>,
+    pub lift: Cell<[f64; super::MAX_PARTS]>,
     pub jam: Cell<[[f64; 2]; super::MAX_PARTS]>,
     pub resolved: Cell<f64>,
     pub forced: Cell<Option<Switch>>,
@@ -506,6 +512,7 @@ impl<'a> Rules<'a> {
             last: RefCell::new(Solved::NONE),
             floor: Cell::new([0.0; super::MAX_PARTS]),
             slack: Cell::new([0.0; super::MAX_PARTS]),
+            lift: Cell::new([0.0; super::MAX_PARTS]),
             jam: Cell::new(jam_arming(top)),
             resolved: Cell::new(0.0),
             forced: Cell::new(None),
@@ -790,7 +797,7 @@ impl Rules<'_> {
                 let k = top.kin(y);
                 top.parts.shape[i].gap(k.zg, k.e3) + self.floor.get()[i]
             }
-            Switch::LiftOff(i) => forces().n[i],
+            Switch::LiftOff(i) => forces().n[i] + self.lift.get()[i],
             Switch::SlipToRoll(i) if phase.contacts.flat => top.flat_slide(i, y) - eps,
             // A creeping part sticks once the force sticking needs is back in its cone by
             // CREEP_STICK of the friction's scale.
@@ -1255,6 +1262,7 @@ impl Rules<'_> {
         // The forces the phase starts with (one solve) then give each sticking part's cone
         // slack and each sliding part's jam event its arming ([`Rules`]).
         let mut slack = [0.0; super::MAX_PARTS];
+        let mut lift = [0.0; super::MAX_PARTS];
         let mut jam = jam_arming(top);
         if !phase.contacts.flat && phase.contacts.mask(n) != 0 {
             let c = phase.contacts;
@@ -1289,6 +1297,9 @@ impl Rules<'_> {
             let round = 1e-12 * top.friction.mu() * top.m * top.g.max(1e-300);
             let c = phase.contacts;
             for i in 0..n {
+                if c.mode[i] != Mode::Flight && f.n[i] <= 0.0 {
+                    lift[i] = PULL * top.m * top.g - f.n[i];
+                }
                 match c.mode[i] {
                     Mode::Roll if c.drilling & (1 << i) == 0 => {
                         slack[i] = (-top.stick_margin(&f, i)).max(0.0) + round;
@@ -1304,6 +1315,7 @@ impl Rules<'_> {
             }
         }
         self.slack.set(slack);
+        self.lift.set(lift);
         self.jam.set(jam);
         let k = top.kin(y);
         let mut floor = [0.0; super::MAX_PARTS];

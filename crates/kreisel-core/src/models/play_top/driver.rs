@@ -18,7 +18,7 @@ use std::cell::{Cell, RefCell};
 use std::ops::ControlFlow;
 
 /// The most contact switches a run may make before it is taken for chattering.
-const MAX_SWITCHES: usize = 200_000;
+pub(crate) const MAX_SWITCHES: usize = 200_000;
 
 /// The bound on DOP853's estimate of `h |lambda|` over which the steps of a phase where a
 /// part slides are taken to be held by stability ([`Dop853::stiff_stop`]); the rest of the
@@ -385,6 +385,8 @@ pub(crate) struct Rules<'a> {
     /// for the one a band switch has just crossed, flipped by [`Rules::apply`] (bit `k` of
     /// `band_crossed`): its located state lies within rounding of the kink.
     pub band: Cell<[f64; 2]>,
+    /// The rates of the two resistances' kinks ([`PlayTop::resist_bands`]: the top's own).
+    pub bands: [f64; 2],
     pub band_crossed: Cell<u8>,
     /// The sign of the drilling rate (`w_n`) at the phase's start: a drilling part's
     /// [`Switch::DrillEnd`] is located where the rate, so signed, falls to the stick speed,
@@ -518,6 +520,7 @@ impl<'a> Rules<'a> {
             forced: Cell::new(None),
             unlocated: Cell::new(false),
             band: Cell::new([1.0; 2]),
+            bands: top.resist_bands(top.reach()),
             band_crossed: Cell::new(0),
             drill_sign: Cell::new(1.0),
             drill_refused: Cell::new(0),
@@ -833,8 +836,7 @@ impl Rules<'_> {
             Switch::Band(j) => {
                 let w = top.kin(y).w;
                 let rate = if j == 0 { w[0].hypot(w[1]) } else { w[2].abs() };
-                let band = top.resist_bands(top.reach())[j];
-                self.band.get()[j] * (rate - band) / band
+                self.band.get()[j] * (rate - self.bands[j]) / self.bands[j]
             }
             Switch::Jam(i) => {
                 // Sliding's own coefficient falls to the jam level, or the normal force it
@@ -1165,7 +1167,7 @@ impl Rules<'_> {
         let w = top.kin(y).w;
         self.drill_sign.set(if w[2] < 0.0 { -1.0 } else { 1.0 });
         let rates = [w[0].hypot(w[1]), w[2].abs()];
-        let bands = top.resist_bands(top.reach());
+        let bands = self.bands;
         let (mut side, crossed) = (self.band.get(), self.band_crossed.replace(0));
         for j in 0..2 {
             side[j] = if crossed & (1 << j) != 0 {

@@ -961,6 +961,13 @@ fn run<const N: usize>(
     let mut first = true;
     let mut n_switches = 0usize;
     loop {
+        // (Checked here, after every switch: a band's restart included.)
+        if n_switches > super::driver::MAX_SWITCHES {
+            return Err(KreiselError::Numerical(format!(
+                "play top: more than {} mode switches before t = {t} (chattering)",
+                super::driver::MAX_SWITCHES
+            )));
+        }
         let integrator = Dop853 {
             rtol,
             atol: settings.atol,
@@ -1127,11 +1134,6 @@ fn run<const N: usize>(
             info.events.remove(record);
             phase = h.apply(switch, &phase, &mut y);
             n_switches += 1;
-            if n_switches > 200_000 {
-                return Err(KreiselError::Numerical(format!(
-                    "play top: more than 200000 mode switches before t = {t} (chattering)"
-                )));
-            }
             continue;
         }
         if matches!(
@@ -1183,11 +1185,6 @@ fn run<const N: usize>(
                     part: Some(i),
                 });
             }
-        }
-        if n_switches > 200_000 {
-            return Err(KreiselError::Numerical(format!(
-                "play top: more than 200000 mode switches before t = {t} (chattering)"
-            )));
         }
     }
     info.status = if t < t_end {

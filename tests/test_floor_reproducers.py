@@ -1789,3 +1789,30 @@ def test_two_sticking_parts_split_their_forces_by_least_norm_not_by_rounding():
     use = force / (mu * np.asarray(tr.part_normal_force)[late][:, [0, 2]])
     assert use.max() < 0.2
     _ledger_kept(tr, 1e-10)
+
+
+def test_a_rolling_top_held_by_its_drilling_resistances_stiff_band_goes_on_implicitly():
+    """Floor campaign, seed 26 at t_end 5 s and rtol 1e-6, case 1735: a 1.4 g ball top
+    rolling back and forth on its ball, its spin about the vertical inside the drilling
+    resistance's linear band, which relaxes it within microseconds. DOP853's steps were held
+    by that stiffness (136 260 steps, 645 299 rejected), the accumulated error fed E +
+    dissipated 7.4e-5 of E, and the top ended upside down (u = -0.85 by 4.4 s). A rolling
+    phase with a resistance now goes on by Radau IIA where DOP853's steps are held by
+    stability, as a slide does. Checked: far fewer steps, E + dissipated within 50 rtol, and
+    u at eleven times within 1e-3 of a run at rtol 1e-10 (the story converged)."""
+    top = PlayTop(0.001443099259152495, 4.939793113932709e-08, 6.309841402579902e-08,
+                  s=0.007704086135715986, rho=0.014596244927567567,
+                  friction=Coulomb(0.6039758796515672), restitution=0.95,
+                  drilling_resistance=0.00016587417769070838)  # fmt: skip
+    st = top.state(theta=0.3923495133880562, psi=3.905407993123862, psi_dot=-28.018840802958437,
+                   vx=-0.3150791334600261, vy=-0.44518798356504563,
+                   height=6.073693967393231e-05)  # fmt: skip
+    times = np.linspace(0.0, 5.0, 11)
+    tr = kreisel.simulate(top, st, 5.0, rtol=1e-6)
+    assert tr.status == "completed"
+    assert tr.stats["steps"] < 20000
+    _ledger_kept(tr, 1e-6)
+    loose = kreisel.simulate(top, st, 5.0, rtol=1e-6, t_eval=times)
+    tight = kreisel.simulate(top, st, 5.0, rtol=1e-10, t_eval=times)
+    assert np.abs(np.asarray(loose.u) - np.asarray(tight.u)).max() < 1e-3
+    assert np.asarray(tight.u).min() > 0.2

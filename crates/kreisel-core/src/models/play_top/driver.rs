@@ -18,7 +18,19 @@ use std::cell::{Cell, RefCell};
 use std::ops::ControlFlow;
 
 /// The most contact switches a run may make before it is taken for chattering.
-pub(crate) const MAX_SWITCHES: usize = 200_000;
+const MAX_SWITCHES: usize = 200_000;
+
+/// Refuses a run (the plain one and the sensitivity run alike) at time `t` as chattering once
+/// it has made more than [`MAX_SWITCHES`] contact switches.
+pub(crate) fn check_switches(n_switches: usize, t: f64) -> Result<()> {
+    if n_switches > MAX_SWITCHES {
+        return Err(KreiselError::Numerical(format!(
+            "play top: more than {MAX_SWITCHES} mode switches before t = {t} \
+             (chattering); the model's contact modes do not settle here"
+        )));
+    }
+    Ok(())
+}
 
 /// The bound on DOP853's estimate of `h |lambda|` over which the steps of a phase where a
 /// part slides are taken to be held by stability ([`Dop853::stiff_stop`]); the rest of the
@@ -2409,12 +2421,7 @@ pub(crate) fn drive(
             }
             break;
         }
-        if n_switches > MAX_SWITCHES {
-            return Err(KreiselError::Numerical(format!(
-                "play top: more than {MAX_SWITCHES} mode switches before t = {t} \
-                 (chattering); the model's contact modes do not settle here"
-            )));
-        }
+        check_switches(n_switches, t)?;
     }
     info.status = if stopped {
         Status::Event

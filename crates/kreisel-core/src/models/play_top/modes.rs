@@ -7,7 +7,7 @@
 #![allow(clippy::needless_range_loop)]
 
 use super::parts::{Shape, MAX_PARTS};
-use super::solve::{Forces, EZ};
+use super::solve::{Forces, Kin, EZ};
 use super::{add, scale, Friction, Mode, PlayTop, DIM};
 use crate::rotation::{cross, dot, Quat};
 
@@ -492,11 +492,10 @@ impl PlayTop {
         }
         y[9] = h / count;
         y[12] = vz / count;
-        if let Some(i) = stick {
+        if let Some(i) = stick.filter(|&i| !self.two_sticking(c, i, &k, y)) {
             let v = scale(-1.0, cross(k.w, self.part(i).arm(k.e3)));
             y[10] = v[0];
             y[11] = v[1];
-            self.two_sticking(c, i, y);
         }
         let excess = self.kinetic_energy(y) - before;
         if stick.is_none() && excess > 0.0 {
@@ -518,46 +517,41 @@ impl PlayTop {
     }
 
     /// Two parts sticking, and no other touching: the top can only turn about the line
-    /// through their contact points (a rigid body whose two points are at rest), so its
-    /// velocities are put on that one freedom, `w = a d`, `v_G = -w x arm_i` with `d` the
-    /// unit vector from contact `i` to the other. `a` is the projection in the kinetic
+    /// through their contact points (a rigid body whose two points are at rest), so the
+    /// velocities of `k` are put on that one freedom, `w = a d`, `v_G = -w x arm_i` with `d`
+    /// the unit vector from contact `i` to the other. `a` is the projection in the kinetic
     /// energy's metric, `a = b.M u / b.M b` with `b = (-d x arm_i, d)`: it never adds kinetic
     /// energy (what it removes, the drift of the integration, [`Self::project`] counts as
     /// dissipated). Without it the second contact's slip, held at zero only through its
     /// acceleration, drifted: a top rolling on a ring and a sphere under a drilling
     /// resistance turned ever faster about the vertical (4e-5 rad/s after 5 s) and
-    /// E + dissipated rose 7.5e-9 (rtol 1e-10) and 9e-6 (rtol 1e-8) of E.
-    fn two_sticking(&self, c: &Contacts, i: usize, y: &mut [f64; DIM]) {
+    /// E + dissipated rose 7.5e-9 (rtol 1e-10) and 9e-6 (rtol 1e-8) of E. Returns whether it
+    /// applied (else `y` is untouched).
+    pub(crate) fn two_sticking(&self, c: &Contacts, i: usize, k: &Kin, y: &mut [f64; DIM]) -> bool {
         let mut on = (0..self.parts.n).filter(|&j| c.mode[j] != Mode::Flight);
         let (Some(a), Some(b), None) = (on.next(), on.next(), on.next()) else {
-            return;
+            return false;
         };
         if c.mode[a] != Mode::Roll || c.mode[b] != Mode::Roll || c.drilling != 0 {
-            return;
+            return false;
         }
         let j = if a == i { b } else { a };
-        let k = self.kin(y);
-        let (arm_i, arm_j) = (self.part(i).arm(k.e3), self.part(j).arm(k.e3));
-        let d = add(arm_j, scale(-1.0, arm_i));
+        let arm_i = self.part(i).arm(k.e3);
+        let d = add(self.part(j).arm(k.e3), scale(-1.0, arm_i));
         let len = dot(d, d).sqrt();
         if len <= 1e-9 * self.reach() || len.is_nan() {
-            return;
+            return false;
         }
         let d = scale(1.0 / len, d);
         let vb = cross(arm_i, d);
-        // J w in the space frame for the symmetric top: A w + (C - A)(e3 . w) e3.
-        let inertia = |w: [f64; 3]| {
-            add(
-                scale(self.a, w),
-                scale((self.c - self.a) * dot(k.e3, w), k.e3),
-            )
-        };
-        let num = self.m * dot(vb, k.v) + dot(d, inertia(k.w));
-        let den = self.m * dot(vb, vb) + dot(d, inertia(d));
+        // The rotational parts in the body frame, where the inertia is diagonal.
+        let db = k.to_body(d);
+        let num = self.m * dot(vb, k.v) + dot(db, self.momentum(k.wb));
+        let den = self.m * dot(vb, vb) + dot(db, self.momentum(db));
         let alpha = num / den;
-        let wb = k.to_body(scale(alpha, d));
-        y[4..7].copy_from_slice(&wb);
+        y[4..7].copy_from_slice(&scale(alpha, db));
         y[10..13].copy_from_slice(&scale(alpha, vb));
+        true
     }
 
     /// Two parts touching at once fix the tilt: their gaps `z_G + z u - phi(u)` are both zero,

@@ -962,12 +962,7 @@ fn run<const N: usize>(
     let mut n_switches = 0usize;
     loop {
         // (Checked here, after every switch: a band's restart included.)
-        if n_switches > super::driver::MAX_SWITCHES {
-            return Err(KreiselError::Numerical(format!(
-                "play top: more than {} mode switches before t = {t} (chattering)",
-                super::driver::MAX_SWITCHES
-            )));
-        }
+        super::driver::check_switches(n_switches, t)?;
         let integrator = Dop853 {
             rtol,
             atol: settings.atol,

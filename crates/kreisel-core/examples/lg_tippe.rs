@@ -60,9 +60,9 @@ fn main() {
             cols.u[i],
             e[0] + e[1] + e[2],
             e[0] + e[1] + e[2] + out.rows[i].y[13],
-            &cols.part_in_contact[i][..2],
-            cols.part_normal_force[i][0],
-            cols.part_normal_force[i][1],
+            cols.part_in_contact.row(i),
+            cols.part_normal_force.row(i)[0],
+            cols.part_normal_force.row(i)[1],
             out.rows[i].y[6],
         );
     }

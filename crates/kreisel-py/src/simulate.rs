@@ -327,33 +327,17 @@ impl PyRun {
                 d.set_item("energy_rotation", part(1)?.into_pyarray(py))?;
                 d.set_item("energy_potential", part(2)?.into_pyarray(py))?;
                 d.set_item("energy", total.into_pyarray(py))?;
-                // Per part: the first `parts.n` of each row.
+                // Per part: the top's `parts.n` values a row.
                 let np = top.parts.n;
                 // (part_mode: codes, see `names()["part_modes"]`, converted to names in Python.)
                 let cols = [
                     (
                         "part_in_contact",
-                        per_part(
-                            py,
-                            n,
-                            np,
-                            1,
-                            c.part_in_contact
-                                .iter()
-                                .flat_map(|r| r[..np].iter().copied()),
-                        )?,
+                        per_part(py, n, np, 1, c.part_in_contact.data.iter().copied())?,
                     ),
                     (
                         "part_normal_force",
-                        per_part(
-                            py,
-                            n,
-                            np,
-                            1,
-                            c.part_normal_force
-                                .iter()
-                                .flat_map(|r| r[..np].iter().copied()),
-                        )?,
+                        per_part(py, n, np, 1, c.part_normal_force.data.iter().copied())?,
                     ),
                     (
                         "part_slip_velocity",
@@ -362,22 +346,12 @@ impl PyRun {
                             n,
                             np,
                             2,
-                            c.part_slip_velocity
-                                .iter()
-                                .flat_map(|r| r[..np].iter().flatten().copied()),
+                            c.part_slip_velocity.data.iter().flatten().copied(),
                         )?,
                     ),
                     (
                         "part_mode",
-                        per_part(
-                            py,
-                            n,
-                            np,
-                            1,
-                            c.part_state
-                                .iter()
-                                .flat_map(|r| r[..np].iter().map(|s| s.code())),
-                        )?,
+                        per_part(py, n, np, 1, c.part_state.data.iter().map(|s| s.code()))?,
                     ),
                     (
                         "part_contact_point",
@@ -386,9 +360,7 @@ impl PyRun {
                             n,
                             np,
                             3,
-                            c.part_contact_point
-                                .iter()
-                                .flat_map(|r| r[..np].iter().flatten().copied()),
+                            c.part_contact_point.data.iter().flatten().copied(),
                         )?,
                     ),
                     (
@@ -398,9 +370,7 @@ impl PyRun {
                             n,
                             np,
                             2,
-                            c.part_friction_force
-                                .iter()
-                                .flat_map(|r| r[..np].iter().flatten().copied()),
+                            c.part_friction_force.data.iter().flatten().copied(),
                         )?,
                     ),
                 ];

@@ -267,20 +267,54 @@ pub struct PlayColumns {
     pub jellett: Vec<f64>,
     /// Energy parts: translation, rotation, potential.
     pub energy_parts: Vec<[f64; 3]>,
-    /// Whether each part touches the floor (the first [`PlayTop::parts`]`.n` are used).
-    pub part_in_contact: Vec<[bool; MAX_PARTS]>,
+    /// Whether each part touches the floor.
+    pub part_in_contact: PerPart<bool>,
     /// Each part's normal force (N).
-    pub part_normal_force: Vec<[f64; MAX_PARTS]>,
+    pub part_normal_force: PerPart<f64>,
     /// Each part's slip velocity (horizontal, space frame; m/s): the velocity of the
     /// material point at its lowest point.
-    pub part_slip_velocity: Vec<[[f64; 2]; MAX_PARTS]>,
+    pub part_slip_velocity: PerPart<[f64; 2]>,
     /// Each part's contact state ([`PartState`]).
-    pub part_state: Vec<[PartState; MAX_PARTS]>,
+    pub part_state: PerPart<PartState>,
     /// Each part's contact point (space frame; m): its lowest point (a ring lying flat: the
     /// centre of its circle, on the floor).
-    pub part_contact_point: Vec<[[f64; 3]; MAX_PARTS]>,
+    pub part_contact_point: PerPart<[f64; 3]>,
     /// Each part's friction force (horizontal, space frame; N), 0 for a part not touching.
-    pub part_friction_force: Vec<[[f64; 2]; MAX_PARTS]>,
+    pub part_friction_force: PerPart<[f64; 2]>,
+}
+
+/// A column with one value per part of the top in each row, for the top's own parts only
+/// (a ball's rows hold one value, a tippe top's two): row `i` is
+/// `data[i * parts..(i + 1) * parts]`. Sized to the parts rather than to [`MAX_PARTS`], it
+/// keeps a one-part run's diagnostics at about half the memory.
+#[derive(Debug, Clone, Default)]
+pub struct PerPart<T> {
+    /// The top's number of parts: values a row.
+    pub parts: usize,
+    /// The values, row after row.
+    pub data: Vec<T>,
+}
+
+impl<T> PerPart<T> {
+    /// Row `i`'s values, one per part.
+    pub fn row(&self, i: usize) -> &[T] {
+        &self.data[i * self.parts..(i + 1) * self.parts]
+    }
+
+    /// The number of rows.
+    pub fn len(&self) -> usize {
+        self.data.len().checked_div(self.parts).unwrap_or(0)
+    }
+
+    /// No rows.
+    pub fn is_empty(&self) -> bool {
+        self.data.is_empty()
+    }
+
+    /// The rows in order.
+    pub fn rows(&self) -> std::slice::ChunksExact<'_, T> {
+        self.data.chunks_exact(self.parts.max(1))
+    }
 }
 
 impl PlayTop {
@@ -309,7 +343,8 @@ impl PlayTop {
     ];
 
     /// The diagnostics of the rows of a play-top run: an error (not an abort) where the
-    /// process's memory cannot hold them (about 400 bytes a row).
+    /// process's memory cannot hold them (about 190 bytes a row for one part, 70 more for
+    /// each further part).
     pub fn columns(&self, rows: &[PlayRow]) -> Result<PlayColumns> {
         columns_of(self, rows)
     }
@@ -398,6 +433,7 @@ fn columns_of(top: &PlayTop, all: &[PlayRow]) -> Result<PlayColumns> {
     // than the row's arithmetic, and rows for the whole run would be a large allocation.
     const BLOCK: usize = 128;
     let n = all.len();
+    let np = top.parts.n;
     fn column<T>(n: usize) -> Result<Vec<T>> {
         let mut v = Vec::new();
         v.try_reserve_exact(n).map_err(|_| {
@@ -408,6 +444,12 @@ fn columns_of(top: &PlayTop, all: &[PlayRow]) -> Result<PlayColumns> {
             ))
         })?;
         Ok(v)
+    }
+    fn per_part<T>(n: usize, parts: usize) -> Result<PerPart<T>> {
+        Ok(PerPart {
+            parts,
+            data: column(n * parts)?,
+        })
     }
     let mut c = PlayColumns {
         u: column(n)?,
@@ -420,12 +462,12 @@ fn columns_of(top: &PlayTop, all: &[PlayRow]) -> Result<PlayColumns> {
         normal_force: column(n)?,
         jellett: column(n)?,
         energy_parts: column(n)?,
-        part_in_contact: column(n)?,
-        part_normal_force: column(n)?,
-        part_slip_velocity: column(n)?,
-        part_state: column(n)?,
-        part_contact_point: column(n)?,
-        part_friction_force: column(n)?,
+        part_in_contact: per_part(n, np)?,
+        part_normal_force: per_part(n, np)?,
+        part_slip_velocity: per_part(n, np)?,
+        part_state: per_part(n, np)?,
+        part_contact_point: per_part(n, np)?,
+        part_friction_force: per_part(n, np)?,
     };
     let mut angles = Unwrapped::default();
     let mut rows = [Row::default(); BLOCK];
@@ -445,17 +487,20 @@ fn columns_of(top: &PlayTop, all: &[PlayRow]) -> Result<PlayColumns> {
         c.normal_force.extend(rows.iter().map(|r| r.normal_force));
         c.jellett.extend(rows.iter().map(|r| r.jellett));
         c.energy_parts.extend(rows.iter().map(|r| r.energy_parts));
-        c.part_in_contact
-            .extend(rows.iter().map(|r| r.part_in_contact));
-        c.part_normal_force
-            .extend(rows.iter().map(|r| r.part_normal_force));
-        c.part_slip_velocity
-            .extend(rows.iter().map(|r| r.part_slip_velocity));
-        c.part_state.extend(rows.iter().map(|r| r.part_state));
-        c.part_contact_point
-            .extend(rows.iter().map(|r| r.part_contact_point));
-        c.part_friction_force
-            .extend(rows.iter().map(|r| r.part_friction_force));
+        for r in rows {
+            c.part_in_contact.data.extend(&r.part_in_contact[..np]);
+            c.part_normal_force.data.extend(&r.part_normal_force[..np]);
+            c.part_slip_velocity
+                .data
+                .extend(&r.part_slip_velocity[..np]);
+            c.part_state.data.extend(&r.part_state[..np]);
+            c.part_contact_point
+                .data
+                .extend(&r.part_contact_point[..np]);
+            c.part_friction_force
+                .data
+                .extend(&r.part_friction_force[..np]);
+        }
     }
     Ok(c)
 }

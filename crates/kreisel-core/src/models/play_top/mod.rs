@@ -387,6 +387,34 @@ impl PlayTop {
         }
     }
 
+    /// Whether nothing dissipates along a phase of `c`: no resistance, and every part in
+    /// flight or sticking (no patch drilling, none creeping, no ring lying flat). The contact
+    /// forces then do no work, and E + dissipated is a first integral of the phase's
+    /// equations ([`driver::Keep`]).
+    pub fn conserves(&self, c: &Contacts) -> bool {
+        !self.has_resistance()
+            && !c.flat
+            && c.drilling == 0
+            && c.creeping == 0
+            && c.mode[..self.parts.n]
+                .iter()
+                .all(|&m| matches!(m, Mode::Flight | Mode::Roll))
+    }
+
+    /// Moves the energy by `change` (J) where `|change| <= band`, by scaling the velocities:
+    /// every contact constraint of a phase is homogeneous in them, so the modes hold. A
+    /// larger change, or one the kinetic energy cannot give, is not made
+    /// ([`driver::Keep`]).
+    pub(crate) fn keep_ledger(&self, y: &mut [f64; DIM], change: f64, band: f64) {
+        let ke = self.kinetic_energy(y);
+        if change != 0.0 && change.abs() <= band && ke + change > 0.0 {
+            let f = ((ke + change) / ke).sqrt();
+            for i in (4..7).chain(10..13) {
+                y[i] *= f;
+            }
+        }
+    }
+
     /// Kinetic energy, translation + rotation (J).
     pub fn kinetic_energy(&self, y: &[f64; DIM]) -> f64 {
         let (tr, rot, _) = self.energy_parts(y);

@@ -55,7 +55,7 @@
 // tangents are written component by component (their blocks mean different things)
 #![allow(clippy::needless_range_loop)]
 
-use super::driver::{ledger, no_energy_from_a_switch, Phase, Rules, Switch};
+use super::driver::{ledger, no_energy_from_a_switch, Keep, Phase, Rules, Switch};
 use super::simulate::PlayRow;
 use super::solve::{Consts, Kernel};
 use super::{Friction, PlayTop, Shape, DIM};
@@ -395,6 +395,8 @@ struct PhaseWithSensitivities<'a> {
     /// Per sensitivity, the tops with its parameter moved by `+d` and `-d`, and `1 / (2 d)`.
     moved: Vec<Option<(Kerneled, Kerneled, f64)>>,
     scale: [f64; TAN],
+    /// The ledger kept where nothing dissipates, as in a plain run.
+    keep: Option<Keep>,
 }
 
 impl PhaseWithSensitivities<'_> {
@@ -488,6 +490,9 @@ impl<const N: usize> OdeSystem<N> for PhaseWithSensitivities<'_> {
         let mut ym = [0.0; DIM];
         ym.copy_from_slice(&y[..DIM]);
         self.base.top.project(&self.phase.contacts, &mut ym);
+        if let Some(keep) = &self.keep {
+            keep.apply(&self.base.top, &mut ym);
+        }
         y[..DIM].copy_from_slice(&ym);
     }
 
@@ -1048,6 +1053,7 @@ fn run<const N: usize>(
             base,
             moved: moved_tops(top, sens, &ph),
             scale: scales(top, &y),
+            keep: Keep::of(top, &ph.contacts, &y, integrator.rtol),
         };
         let mut yn = [0.0; N];
         yn[..DIM].copy_from_slice(&y);

@@ -1842,3 +1842,25 @@ def test_a_rim_rolling_nearly_flat_for_thousands_of_steps_keeps_its_ledger():
     assert names.count("slip_to_roll") > 100 and names.count("roll_to_slip") > 100
     total = tr["energy"][0] + tr["dissipated"][0]
     assert tr["dissipated"][-1] > 0.9 * total
+
+
+def test_a_restart_at_a_resistance_kink_goes_on_implicitly_where_the_phase_did():
+    """Floor campaign, seed 26 at t_end 5 s and rtol 1e-6, case 51: a 1.4 g frictionless ball
+    top falls over and tumbles, its rate about the vertical in the drilling resistance's
+    linear band, which relaxes it at about 1e9 /s. The phase restarts where that rate
+    crosses the band's edge (the law's kink), and each restart began again by DOP853,
+    whose explicit steps are unstable there: they overshot across the kink, which was
+    located again at once. The rate was held at the kink's, 200 000 restarts and 2.6 million
+    rejected steps by 2.6 s, and the run was refused as chattering. A restart at the kink
+    after a phase that ended by Radau IIA now goes on by Radau IIA. Checked: the run
+    completes in far fewer steps, E + dissipated within 50 rtol."""
+    top = PlayTop(0.0014015438003801126, 8.080208628894475e-09, 8.277805131313659e-09,
+                  s=0.002136099809134523, rho=0.005196946132038474,
+                  friction=kreisel.Frictionless(), restitution=0.95,
+                  drilling_resistance=1.0266040126167234e-05)  # fmt: skip
+    st = top.state(theta=0.001435245837366802, psi_dot=-9.59421923698466)
+    tr = kreisel.simulate(top, st, 5.0, events=[kreisel.events.rest()], rtol=1e-6)
+    assert tr.status == "completed"
+    assert tr.stats["steps"] < 50_000
+    _ledger_kept(tr, 1e-6)
+    assert np.asarray(tr.u).min() < -0.9  # it fell over

@@ -397,6 +397,15 @@ pub(crate) struct Rules<'a> {
     /// for the one a band switch has just crossed, flipped by [`Rules::apply`] (bit `k` of
     /// `band_crossed`): its located state lies within rounding of the kink.
     pub band: Cell<[f64; 2]>,
+    /// The last phase went on by Radau IIA to its end ([`Rules::integrate`]); kept only
+    /// across a restart at a resistance's kink ([`Switch::Band`]), where the next phase
+    /// starts by Radau IIA too. Started again by DOP853, whose explicit steps are unstable
+    /// in the linear band (a drilling resistance relaxing at 1e9 /s), each restart overshot
+    /// across the kink and was located again: a 1.4 g frictionless ball top tumbling with
+    /// its rate about the vertical in that band made 200 000 restarts and 2.6 million
+    /// rejected steps by 2.6 s, its rate held at the kink's (the floor campaign's case 51
+    /// of seed 26 at t_end 5 s and rtol 1e-6).
+    pub stiff_end: Cell<bool>,
     /// The rates of the two resistances' kinks ([`PlayTop::resist_bands`]: the top's own).
     pub bands: [f64; 2],
     pub band_crossed: Cell<u8>,
@@ -532,6 +541,7 @@ impl<'a> Rules<'a> {
             forced: Cell::new(None),
             unlocated: Cell::new(false),
             band: Cell::new([1.0; 2]),
+            stiff_end: Cell::new(false),
             bands: top.resist_bands(top.reach()),
             band_crossed: Cell::new(0),
             drill_sign: Cell::new(1.0),
@@ -1738,23 +1748,31 @@ impl Rules<'_> {
         let rings = (0..self.top.parts.n).any(|i| self.ring_on(&phase.contacts, i));
         let held = (!phase.contacts.flat && (rings || slides && self.top.friction.can_stick()))
             .then_some(|y: &[f64; DIM], pace: f64| self.held_switch(phase, y, pace));
-        let mut first = Watched::new(obs, held, slow, t, y, t_end, false);
-        // A slide whose explicit steps fall below the held pace with no switch to end it on
-        // goes on by Radau IIA too: the step-size test estimates the stiffness along the last
-        // stages' difference and can miss it (a sharp rim under Coulomb-Contensou friction
-        // with a drilling resistance, the spin about the figure axis relaxing at about
-        // 1e10 /s, DOP853's steps stable at 2.6e-10 s and not at 3.7e-10 s, the test never
-        // tripped; refused as stalled: the floor campaign's case 2831 of seed 10).
-        first.stiff_when_slow = slides;
-        let (t1, y1, st) =
-            self.explicit(&explicit, phase, kernel, keep, t, y, t_end, &mut first)?;
-        if let Some(sw) = first.found {
-            self.forced.set(Some(sw));
-            return Ok((t1, y1, st));
-        }
-        if (st.stiff_stops == 0 && !first.slowed) || t1 >= t_end {
-            return Ok((t1, y1, st));
-        }
+        // A restart at a resistance's kink after a phase that ended by Radau IIA goes on by
+        // it from the start ([`Rules::stiff_end`]).
+        let (t1, y1, st) = if self.stiff_end.replace(false) {
+            obs.start(t, &y);
+            (t, y, Stats::default())
+        } else {
+            let mut first = Watched::new(&mut *obs, held, slow, t, y, t_end, false);
+            // A slide whose explicit steps fall below the held pace with no switch to end it on
+            // goes on by Radau IIA too: the step-size test estimates the stiffness along the last
+            // stages' difference and can miss it (a sharp rim under Coulomb-Contensou friction
+            // with a drilling resistance, the spin about the figure axis relaxing at about
+            // 1e10 /s, DOP853's steps stable at 2.6e-10 s and not at 3.7e-10 s, the test never
+            // tripped; refused as stalled: the floor campaign's case 2831 of seed 10).
+            first.stiff_when_slow = slides;
+            let (t1, y1, st) =
+                self.explicit(&explicit, phase, kernel, keep, t, y, t_end, &mut first)?;
+            if let Some(sw) = first.found {
+                self.forced.set(Some(sw));
+                return Ok((t1, y1, st));
+            }
+            if (st.stiff_stops == 0 && !first.slowed) || t1 >= t_end {
+                return Ok((t1, y1, st));
+            }
+            (t1, y1, st)
+        };
         // Stiff (the explicit steps held by stability: a slip relaxing under friction, the
         // direction of a small slip turning): the rest of the phase by Radau IIA, the same
         // observer going on, held to DOP853's local error (with Radau5's own rule, 2e-8 at
@@ -1794,6 +1812,7 @@ impl Rules<'_> {
                 if let Some(sw) = tracked.found {
                     self.forced.set(Some(sw));
                 }
+                self.stiff_end.set(true);
                 Ok((t2, y2, st.plus(&more)))
             }
             Ok(_)
@@ -2403,6 +2422,8 @@ pub(crate) fn drive(
         if matches!(switch, Switch::Band(_)) {
             info.events.remove(record);
             restarted = true;
+        } else {
+            h.stiff_end.set(false);
         }
         if own_name == "creep_end" && phase.contacts.creeping != 0 {
             // The creep's slip was only turned back onto its direction: no event.

@@ -252,7 +252,19 @@ fn per_part<T: numpy::Element>(
     width: usize,
     it: impl IntoIterator<Item = T>,
 ) -> PyResult<Py<PyAny>> {
-    let a = gather(rows, parts * width, it)?.into_pyarray(py);
+    shaped(py, rows, parts, width, gather(rows, parts * width, it)?)
+}
+
+/// The values `v` of a per-part column ([`per_part`]), already gathered (the core's own
+/// one-value-a-part columns are handed over without a copy).
+fn shaped<T: numpy::Element>(
+    py: Python<'_>,
+    rows: usize,
+    parts: usize,
+    width: usize,
+    v: Vec<T>,
+) -> PyResult<Py<PyAny>> {
+    let a = v.into_pyarray(py);
     Ok(if width == 1 {
         a.reshape([rows, parts])?.into_any().unbind()
     } else {
@@ -333,11 +345,11 @@ impl PyRun {
                 let cols = [
                     (
                         "part_in_contact",
-                        per_part(py, n, np, 1, c.part_in_contact.data.iter().copied())?,
+                        shaped(py, n, np, 1, c.part_in_contact.data)?,
                     ),
                     (
                         "part_normal_force",
-                        per_part(py, n, np, 1, c.part_normal_force.data.iter().copied())?,
+                        shaped(py, n, np, 1, c.part_normal_force.data)?,
                     ),
                     (
                         "part_slip_velocity",

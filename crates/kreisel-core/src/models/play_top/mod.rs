@@ -377,13 +377,19 @@ impl PlayTop {
         let ke = self.kinetic_energy(y);
         if excess > 0.0 {
             if ke > 0.0 {
-                let f = ((ke - excess).max(0.0) / ke).sqrt();
-                for i in (4..7).chain(10..13) {
-                    y[i] *= f;
-                }
+                Self::scale_kinetic(y, ke, (ke - excess).max(0.0));
             }
         } else {
             y[13] -= excess;
+        }
+    }
+
+    /// Scales the velocities of `y`, whose kinetic energy is `ke > 0`, so that it becomes `to`
+    /// (J, at least 0): every contact constraint is homogeneous in them, so the modes hold.
+    fn scale_kinetic(y: &mut [f64; DIM], ke: f64, to: f64) {
+        let f = (to / ke).sqrt();
+        for i in (4..7).chain(10..13) {
+            y[i] *= f;
         }
     }
 
@@ -401,17 +407,13 @@ impl PlayTop {
                 .all(|&m| matches!(m, Mode::Flight | Mode::Roll))
     }
 
-    /// Moves the energy by `change` (J) where `|change| <= band`, by scaling the velocities:
-    /// every contact constraint of a phase is homogeneous in them, so the modes hold. A
-    /// larger change, or one the kinetic energy cannot give, is not made
-    /// ([`driver::Keep`]).
+    /// Moves the energy by `change` (J) where `|change| <= band`, by scaling the velocities
+    /// ([`Self::scale_kinetic`]). A larger change, or one the kinetic energy cannot give, is
+    /// not made ([`driver::Keep`]).
     pub(crate) fn keep_ledger(&self, y: &mut [f64; DIM], change: f64, band: f64) {
         let ke = self.kinetic_energy(y);
         if change != 0.0 && change.abs() <= band && ke + change > 0.0 {
-            let f = ((ke + change) / ke).sqrt();
-            for i in (4..7).chain(10..13) {
-                y[i] *= f;
-            }
+            Self::scale_kinetic(y, ke, ke + change);
         }
     }
 

@@ -489,10 +489,12 @@ impl<const N: usize> OdeSystem<N> for PhaseWithSensitivities<'_> {
     fn project(&self, y: &mut [f64; N]) {
         let mut ym = [0.0; DIM];
         ym.copy_from_slice(&y[..DIM]);
-        self.base.top.project(&self.phase.contacts, &mut ym);
-        if let Some(keep) = &self.keep {
-            keep.apply(&self.base.top, &mut ym);
-        }
+        Keep::project(
+            self.keep.as_ref(),
+            &self.base.top,
+            &self.phase.contacts,
+            &mut ym,
+        );
         y[..DIM].copy_from_slice(&ym);
     }
 

@@ -310,11 +310,6 @@ impl<T> PerPart<T> {
     pub fn is_empty(&self) -> bool {
         self.data.is_empty()
     }
-
-    /// The rows in order.
-    pub fn rows(&self) -> std::slice::ChunksExact<'_, T> {
-        self.data.chunks_exact(self.parts.max(1))
-    }
 }
 
 impl PlayTop {
@@ -435,8 +430,12 @@ fn columns_of(top: &PlayTop, all: &[PlayRow]) -> Result<PlayColumns> {
     let n = all.len();
     let np = top.parts.n;
     fn column<T>(n: usize) -> Result<Vec<T>> {
+        sized(n, n)
+    }
+    // `len` values for the run's `n` rows (its memory error counts rows).
+    fn sized<T>(len: usize, n: usize) -> Result<Vec<T>> {
         let mut v = Vec::new();
-        v.try_reserve_exact(n).map_err(|_| {
+        v.try_reserve_exact(len).map_err(|_| {
             KreiselError::Numerical(crate::simulate::out_of_memory(
                 "the run's diagnostics columns",
                 n,
@@ -448,7 +447,7 @@ fn columns_of(top: &PlayTop, all: &[PlayRow]) -> Result<PlayColumns> {
     fn per_part<T>(n: usize, parts: usize) -> Result<PerPart<T>> {
         Ok(PerPart {
             parts,
-            data: column(n * parts)?,
+            data: sized(n * parts, n)?,
         })
     }
     let mut c = PlayColumns {

@@ -1864,3 +1864,30 @@ def test_a_restart_at_a_resistance_kink_goes_on_implicitly_where_the_phase_did()
     assert tr.stats["steps"] < 50_000
     _ledger_kept(tr, 1e-6)
     assert np.asarray(tr.u).min() < -0.9  # it fell over
+
+
+def test_a_ring_sliding_alone_at_the_edge_of_its_ellipse_creeps_where_both_methods_crawl():
+    """Floor campaign, seed 27 at t_end 5 s, case 188: a 2.1 g fat torus under
+    Coulomb-Contensou friction with rolling and drilling resistance rolls upside down and
+    comes down nearly flat, its friction at 0.97 of the ellipse and its patch hardly
+    drilling. After a creep ended it slid on under its law at 27 stick speeds, the law's
+    direction turning at about 1e10 /s: Radau IIA and then DOP853 crawled in steps of
+    6e-10 s, and the run was refused as stalled at 3.275 s. Where both methods crawl, a
+    part sliding alone within the creep's range is tried sticking and creeps where it
+    cannot. Checked: the ring lands flat on its face and rests before 5 s, no part below
+    the floor, E + dissipated within 50 rtol."""
+    ring = Torus(0.013088930351092183, 0.005123479152578963, z=0.00092378477263681)
+    top = PlayTop(0.002146223354737884, 1.241914150146695e-07, 2.3413848302671635e-07,
+                  shape=[ring],
+                  friction=kreisel.CoulombContensou(0.8661710274694965, 0.000128472400198242),
+                  restitution=0.5809461803253365, rolling_resistance=4.1824439220019714e-05,
+                  drilling_resistance=0.0005553339542851052)  # fmt: skip
+    st = top.state(theta=np.pi / 2, phi=3.6394068795430004, psi=5.589918995194856,
+                   phi_dot=1.7021939683316138, psi_dot=-1.3534386037231156,
+                   vx=-0.09961422866063377)  # fmt: skip
+    tr = kreisel.simulate(top, st, 5.0, events=[kreisel.events.rest()])
+    assert tr.status == "event"
+    assert [e.name for e in tr.events][-2:] == ["flat", "rest"]
+    assert tr["u"][-1] < -0.9999  # upside down, on its face
+    assert part_gaps([ring], tr).min() >= -1e-9
+    _ledger_kept(tr, 1e-10)

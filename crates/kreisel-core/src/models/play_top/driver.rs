@@ -1878,6 +1878,15 @@ impl Rules<'_> {
     /// and a sphere creeping under point Coulomb friction had its creep's friction jump
     /// between them (35 degrees apart) at every step, steps of 4e-11 s, until the run was
     /// refused as stalled (the floor campaign's case 3877 of seed 3).
+    ///
+    /// Where both methods crawl (`pace` 0: Radau IIA's steps too, the last resort before
+    /// DOP853 goes on without a test), a part sliding alone under its law with its measure
+    /// anywhere within the creep's range ([`Self::creep_exit`]) is tried sticking too, and
+    /// creeps where it cannot stick: a 2.1 g fat torus rolling upside down and nearly flat
+    /// under Coulomb-Contensou friction, its friction at 0.97 of the ellipse and hardly
+    /// drilling, slid on at 27 stick speeds after its creep had ended, the law's direction
+    /// turning at about 1e10 /s; steps of 6e-10 s until the run was refused as stalled (the
+    /// floor campaign's case 188 of seed 27 at t_end 5 s).
     fn held_switch(&self, phase: &Phase, y: &[f64; DIM], pace: f64) -> Option<Switch> {
         let k = self.top.kin(y);
         let c = &phase.contacts;
@@ -1913,9 +1922,13 @@ impl Rules<'_> {
         let sliding = |i: usize| c.mode[i] == Mode::Slip;
         (0..self.top.parts.n)
             .find(|&i| {
-                sliding(i)
-                    && c.creeping & (1 << i) == 0
-                    && self.top.part_slide(&k, i) <= CREEP_EXIT * eps
+                sliding(i) && c.creeping & (1 << i) == 0 && {
+                    let slide = self.top.part_slide(&k, i);
+                    slide <= CREEP_EXIT * eps
+                        || (pace == 0.0
+                            && c.mask(self.top.parts.n) == 1 << i
+                            && slide <= self.creep_exit(y, eps))
+                }
             })
             .map(Switch::SlipToRoll)
             .or_else(|| {

@@ -1891,3 +1891,23 @@ def test_a_ring_sliding_alone_at_the_edge_of_its_ellipse_creeps_where_both_metho
     assert tr["u"][-1] < -0.9999  # upside down, on its face
     assert part_gaps([ring], tr).min() >= -1e-9
     _ledger_kept(tr, 1e-10)
+
+
+def test_a_step_across_a_resistance_kink_sees_no_kink_inside_it():
+    """Floor campaign, seed 29 at t_end 5 s, case 1032: a 20 g frictionless ball top lying
+    on its side spins at 201 rad/s, its rate about the vertical crossing the drilling
+    resistance's kink again and again. The phase restarts at each crossing, but the law
+    switched where the rate crossed, inside the step that crossed: that step's error
+    estimate missed the kink, and one step of 1e-3 s (the first after a restart, a hundred
+    times the steps before it) raised E + dissipated by 1.3e-8 of E at rtol 1e-10. A phase
+    now keeps each law to the side of its kink it starts on, continued smoothly past it.
+    Checked: E + dissipated within 50 rtol over the 5 s."""
+    top = PlayTop(0.020097043927212576, 1.9445715600539807e-06, 3.8891431201079614e-06,
+                  s=0.016701391503173398, rho=0.024750009043129316,
+                  friction=kreisel.Frictionless(),
+                  drilling_resistance=4.4331966489997876e-05)  # fmt: skip
+    st = top.state(theta=np.pi / 2, phi=0.31173432649562755, psi_dot=201.12001721148056)
+    tr = kreisel.simulate(top, st, 5.0, events=[kreisel.events.rest()])
+    assert tr.status == "completed"
+    assert part_gaps([Sphere(0.024750009043129316, z=-0.016701391503173398)], tr).min() >= -1e-9
+    _ledger_kept(tr, 1e-10)

@@ -1966,10 +1966,27 @@ impl Rules<'_> {
             top: self.top,
             contacts: phase.contacts,
             kernel,
-            consts: Consts::of(self.top),
+            consts: self.consts(phase),
             last: &self.last,
             keep,
         }
+    }
+
+    /// The top's ratios with the sides of the resistances' kinks `phase` keeps to
+    /// ([`PlayTop::resistance_on`]): those whose kink it watches ([`Rules::watched`]).
+    pub(crate) fn consts(&self, phase: &Phase) -> Consts {
+        let (top, c) = (self.top, &phase.contacts);
+        let mut consts = Consts::of(top);
+        if top.has_resistance() && c.mask(top.parts.n) != 0 {
+            let band = self.band.get();
+            if top.rolling > 0.0 && !c.flat {
+                consts.side[0] = band[0];
+            }
+            if top.drilling > 0.0 {
+                consts.side[1] = band[1];
+            }
+        }
+        consts
     }
 
     /// A phase by DOP853, with one integrator per common kernel, each with only that kernel

@@ -365,10 +365,14 @@ struct Kerneled {
 }
 
 impl Kerneled {
-    fn of(top: PlayTop, phase: &Phase) -> Self {
+    /// `top` in `phase`, each resistance's law kept to the side of its kink `side` gives
+    /// (the driver's [`Rules::consts`]), as in a plain run.
+    fn of(top: PlayTop, phase: &Phase, side: [f64; 2]) -> Self {
+        let mut consts = Consts::of(&top);
+        consts.side = side;
         Kerneled {
             kernel: Kernel::of(&top, &phase.contacts),
-            consts: Consts::of(&top),
+            consts,
             top,
         }
     }
@@ -703,6 +707,7 @@ fn moved_tops(
     top: &PlayTop,
     sens: &PlaySensitivities,
     phase: &Phase,
+    side: [f64; 2],
 ) -> Vec<Option<(Kerneled, Kerneled, f64)>> {
     sens.params
         .iter()
@@ -710,8 +715,8 @@ fn moved_tops(
             PlayParam::Param(j) => {
                 let d = parameter_step(top, j);
                 Some((
-                    Kerneled::of(moved(top, j, d), phase),
-                    Kerneled::of(moved(top, j, -d), phase),
+                    Kerneled::of(moved(top, j, d), phase, side),
+                    Kerneled::of(moved(top, j, -d), phase, side),
                     0.5 / d,
                 ))
             }
@@ -802,7 +807,7 @@ fn saltation(
 ) -> Result<(Vec<[f64; TAN]>, Vec<f64>)> {
     let top = rules.top;
     let scale = scales(top, y);
-    let base = Kerneled::of(*top, phase);
+    let base = Kerneled::of(*top, phase, rules.consts(phase).side);
     let f_minus = tangent_rates(y, &base.rates(phase, y));
     let g = |r: &Rules<'_>, yy: &[f64; DIM]| r.value(sw, phase, f64::NAN, yy, eps);
     // The switch's map, the driver's: the switch, then E + dissipated kept.
@@ -990,7 +995,8 @@ fn run<const N: usize>(
         // The row after a switch is in the phase's modes, prepared, as the driver's.
         let row_after = pending.as_ref().map(|_| h.row(&phase, &y));
         let ph = phase;
-        let base = Kerneled::of(*top, &ph);
+        let side = h.consts(&ph).side;
+        let base = Kerneled::of(*top, &ph, side);
         if let Some(th) = pending.take() {
             let f_plus = tangent_rates(&y, &base.rates(&ph, &y));
             for (sj, th) in s.iter_mut().zip(th) {
@@ -1053,7 +1059,7 @@ fn run<const N: usize>(
             rules: &h,
             phase: ph,
             base,
-            moved: moved_tops(top, sens, &ph),
+            moved: moved_tops(top, sens, &ph, side),
             scale: scales(top, &y),
             keep: Keep::of(top, &ph.contacts, &y, integrator.rtol),
         };

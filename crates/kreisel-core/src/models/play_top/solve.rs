@@ -158,6 +158,11 @@ pub(crate) struct Consts {
     kappa: f64,
     /// `(A - C) / A`.
     euler: f64,
+    /// The side of each resistance's kink (0: rolling, 1: drilling) a phase's equations
+    /// keep to ([`PlayTop::resistance_at`]): -1 the linear law, +1 the sharp law, each
+    /// continued smoothly past the kink, where the phase ends ([`super::driver::Switch::Band`]);
+    /// 0 the law the rate picks.
+    pub(crate) side: [f64; 2],
 }
 
 impl Consts {
@@ -169,6 +174,7 @@ impl Consts {
             inv_c: 1.0 / top.c,
             kappa: 1.0 / top.c - 1.0 / top.a,
             euler: (top.a - top.c) / top.a,
+            side: [0.0; 2],
         }
     }
 
@@ -850,7 +856,7 @@ impl PlayTop {
         if !RES {
             return (euler, ZERO, ZERO);
         }
-        let (res_n, res_0) = self.resistance_at(k.w, EZ, self.parts.reach());
+        let (res_n, res_0) = self.resistance_on(k.w, EZ, self.parts.reach(), p.side);
         (add(euler, p.inv_inertia(k, res_0)), res_n, res_0)
     }
 

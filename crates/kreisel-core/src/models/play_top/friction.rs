@@ -11,7 +11,7 @@ use crate::rotation::dot;
 /// The relaxation time of the rolling and drilling resistances' linear law below their
 /// regularisation rate, as a share of the top's time scale `sqrt(len / g)` (`len` the parts'
 /// reach): 1e-4, 1.7 microseconds on a 3 mm top, 20 on a 4 cm disk
-/// ([`PlayTop::resistance_at`]; theory: "Rolling and drilling resistance"). A setting of
+/// ([`PlayTop::resistance_on`]; theory: "Rolling and drilling resistance"). A setting of
 /// the resistance law, not of the integration: the linear law ends a turning rate's last
 /// stretch in about that time instead of at once, and holds explicit steps to a few times it.
 pub const RESIST_TIME: f64 = 1e-4;
@@ -257,26 +257,16 @@ impl PlayTop {
     /// angular velocity `w` and the upward vertical `gamma` in any one frame (the torques are
     /// in that frame): the part proportional to N (per unit N) and the part that is not;
     /// `len` sets the regularisation's rate scale.
-    #[inline(always)]
-    pub(crate) fn resistance_at(
-        &self,
-        w: [f64; 3],
-        gamma: [f64; 3],
-        len: f64,
-    ) -> ([f64; 3], [f64; 3]) {
-        self.resistance_on(w, gamma, len, [0.0; 2])
-    }
-
-    /// [`Self::resistance_at`] with each law kept to one side of its kink (`side[j]`: -1
-    /// the linear law, +1 the sharp law, 0 the one the rate picks). A phase keeps to the
-    /// side it starts on and ends where the rate crosses the kink
-    /// ([`super::driver::Switch::Band`]): its equations are then smooth, and the step that
-    /// crosses the kink, whose state at the crossing is taken from its dense output, sees no
-    /// kink inside it. Where the law switched inside that step, its error estimate missed
-    /// the kink: a step of 1e-3 s (a hundred times the steps before it, the first after a
-    /// restart) across the drilling resistance's kink of a frictionless ball top spinning
-    /// on its side at 201 rad/s raised E + dissipated by 1.3e-8 of E at rtol 1e-10 (the
-    /// floor campaign's case 1032 of seed 29 at t_end 5 s).
+    ///
+    /// Each law is kept to the side of its kink `side[j]` gives (-1 the linear law, +1 the
+    /// sharp law, 0 the one the rate picks). A phase keeps to the side it starts on and ends
+    /// where the rate crosses the kink ([`super::driver::Switch::Band`]): its equations are
+    /// then smooth, and the step that crosses the kink, whose state at the crossing is taken
+    /// from its dense output, sees no kink inside it. Where the law switched inside that
+    /// step, its error estimate missed the kink: a step of 1e-3 s (a hundred times the steps
+    /// before it, the first after a restart) across the drilling resistance's kink of a
+    /// frictionless ball top spinning on its side at 201 rad/s raised E + dissipated by
+    /// 1.3e-8 of E at rtol 1e-10 (the floor campaign's case 1032 of seed 29 at t_end 5 s).
     #[inline(always)]
     pub(crate) fn resistance_on(
         &self,
@@ -323,7 +313,7 @@ impl PlayTop {
     }
 
     /// The rates (rad/s) below which the rolling and the drilling resistance's laws are
-    /// linear ([`PlayTop::resistance_at`]), `len` setting the rate scale: each is at least
+    /// linear ([`PlayTop::resistance_on`]), `len` setting the rate scale: each is at least
     /// 1e-6 sqrt(g / len), and at least the rate at which the linear law's relaxation time, at
     /// the top's weight and its smallest moment, is `RESIST_TIME sqrt(len / g)`. The law has a
     /// kink there, where a phase restarts ([`super::driver::Switch::Band`]).

@@ -159,7 +159,7 @@ pub(crate) struct Consts {
     /// `(A - C) / A`.
     euler: f64,
     /// The side of each resistance's kink (0: rolling, 1: drilling) a phase's equations
-    /// keep to ([`PlayTop::resistance_at`]): -1 the linear law, +1 the sharp law, each
+    /// keep to ([`PlayTop::resistance_on`]): -1 the linear law, +1 the sharp law, each
     /// continued smoothly past the kink, where the phase ends ([`super::driver::Switch::Band`]);
     /// 0 the law the rate picks.
     pub(crate) side: [f64; 2],
@@ -1873,7 +1873,7 @@ impl PlayTop {
         };
         // Resistance torques about the vertical (the horizontal ones are taken by the floor).
         let resistance = || {
-            let (res_n, res_0) = self.resistance_at(k.wb, k.to_body(EZ), self.reach());
+            let (res_n, res_0) = self.resistance_on(k.wb, k.to_body(EZ), self.reach(), [0.0; 2]);
             k.to_space(add(scale(n, res_n), res_0))[2]
         };
         let u = k.e3[2].signum();

@@ -1911,3 +1911,57 @@ def test_a_step_across_a_resistance_kink_sees_no_kink_inside_it():
     assert tr.status == "completed"
     assert part_gaps([Sphere(0.024750009043129316, z=-0.016701391503173398)], tr).min() >= -1e-9
     _ledger_kept(tr, 1e-10)
+
+
+def test_a_part_left_pulled_by_a_joint_stick_lifts_off_and_the_others_stick():
+    """Floor campaign, seed 34 at t_end 5 s, case 2414: a 6 g four-part top under
+    Coulomb-Contensou friction rocks between a sphere and a sharp rim until, its rotation
+    stopped, it slides to rest on both. At the stop the sphere could stick and the rim not:
+    the stick left the rim pulled by 1e-3 of the weight, and was refused; both slid on at
+    the stick speed, every stick refused, until the steps fell to 1e-14 s and the run was
+    refused. A part a stick leaves pulled now lifts off and the others stick. Checked: the
+    run reaches its rest, the rim lifted off and the sphere sticking, no part below the
+    floor, E + dissipated within 50 rtol."""
+    parts = [Sphere(0.0, z=-0.013349728058078778),
+             Sphere(0.0038291898508379858, z=-0.0001120716890532147),
+             Sphere(0.0, z=-0.013298792945181027),
+             Torus(0.009037343730350502, 0.0, z=-0.004486994198509857)]  # fmt: skip
+    law = kreisel.CoulombContensou(0.9534094473030107, 9.042126316787616e-05)
+    top = PlayTop(0.006266113044158946, 3.2429913566782544e-07, 4.167567340841583e-07,
+                  shape=parts, friction=law)  # fmt: skip
+    st = top.state(theta=0.42290193674407256, psi=4.344351368455504,
+                   height=0.022273125615206606)  # fmt: skip
+    tr = kreisel.simulate(top, st, 5.0, events=[kreisel.events.rest()])
+    assert tr.status == "event" and tr.events[-1].name == "rest"
+    last = [(e.name, e.part) for e in tr.events if e.t > 4.8062]
+    assert ("lift_off", "part3") in last and ("slip_to_roll", "part1") in last
+    assert list(tr.part_mode[-1]) == ["flight", "rolling", "flight", "flight"]
+    assert part_gaps(parts, tr).min() >= -1e-9
+    _ledger_kept(tr, 1e-10)
+
+
+def test_a_strike_beside_a_kept_part_that_no_impulse_keeps_stands_as_it_was():
+    """Floor campaign, seed 35 at t_end 5 s, case 34: an 82 g four-part top under
+    Coulomb(0.75) with a drilling resistance rolls on a sharp rim when its tip strikes the
+    floor. The plastic impact would lift the rim off so slowly that it keeps the rim (a
+    rocking's end), but no impulse keeps it (it would have to pull), and the impact was left
+    out altogether: the tip went on into the floor at 0.7 mm/s, its touchdown located again
+    every 6e-11 s until 200 000 switches refused the run, at every rtol. The impact now
+    stands as it was. Checked: the run completes, no part below the floor, E + dissipated
+    within 50 rtol."""
+    parts = [Sphere(0.007508969551166004, z=-0.03688005528178992),
+             Torus(0.014153122882676205, 0.003971457494813681, z=-0.015838074059098053),
+             Sphere(0.01046929742869391, z=-0.0026728307089577148),
+             Torus(0.01691757890447829, 0.0, z=-0.02046911285658276)]  # fmt: skip
+    top = PlayTop(0.08187296015936757, 4.825685821601059e-06, 9.651371643202118e-06,
+                  shape=parts, friction=kreisel.Coulomb(0.7457115827154814),
+                  drilling_resistance=0.0008792017381470855)  # fmt: skip
+    st = top.state(theta=0.6713241379904793, phi=0.12683924277351044,
+                   psi=0.7114870246943567, phi_dot=67.22807414470007,
+                   psi_dot=-11.38747718500789)  # fmt: skip
+    for rtol in (1e-8, 1e-10):
+        tr = kreisel.simulate(top, st, 1.0, events=[kreisel.events.rest()], rtol=rtol)
+        assert tr.status == "completed"
+        assert tr.stats["steps"] < 20_000
+        assert part_gaps(parts, tr).min() >= -1e-9
+        _ledger_kept(tr, rtol)

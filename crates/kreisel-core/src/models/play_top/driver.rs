@@ -755,16 +755,11 @@ impl Rules<'_> {
         let top = self.top;
         let stick = top.friction.can_stick();
         let mut out = Vec::with_capacity(3 * top.parts.n + 2);
-        // A resistance's kink, where a part presses on the floor (a ring lying flat: the
-        // drilling resistance's alone, the floor taking the rolling one's torque).
-        if phase.contacts.mask(top.parts.n) != 0 {
-            if top.rolling > 0.0 && !phase.contacts.flat {
-                out.push(Switch::Band(0));
-            }
-            if top.drilling > 0.0 {
-                out.push(Switch::Band(1));
-            }
-        }
+        out.extend(
+            (0..2)
+                .filter(|&j| self.watches_band(&phase.contacts, j))
+                .map(Switch::Band),
+        );
         if phase.contacts.flat {
             // A ring lying flat: it stays on the floor (its normal force is m g) and can only
             // stop sliding and spinning.
@@ -1514,10 +1509,10 @@ impl Rules<'_> {
                         // on at the stick speed, each stick refused, until the steps fell to
                         // 1e-14 s (the floor campaign's case 2414 of seed 34 at t_end 5 s).
                         let (mut lc, mut yl) = (want, *y);
-                        let (lifted, fl) =
+                        let (_, fl) =
                             self.lift_pulled(&mut lc, &mut yl, f, PULL * top.m * top.g, |_| true);
                         let stuck = tried & lc.mask_of(Mode::Roll, n);
-                        if lifted != 0 && lc.all_push(&fl, n) && stuck != 0 {
+                        if lc.all_push(&fl, n) && stuck != 0 {
                             (want, push, sticking) = (lc, true, stuck);
                             *y = yl;
                         }
@@ -2004,18 +1999,25 @@ impl Rules<'_> {
     /// The top's ratios with the sides of the resistances' kinks `phase` keeps to
     /// ([`PlayTop::resistance_on`]): those whose kink it watches ([`Rules::watched`]).
     pub(crate) fn consts(&self, phase: &Phase) -> Consts {
-        let (top, c) = (self.top, &phase.contacts);
-        let mut consts = Consts::of(top);
-        if top.has_resistance() && c.mask(top.parts.n) != 0 {
-            let band = self.band.get();
-            if top.rolling > 0.0 && !c.flat {
-                consts.side[0] = band[0];
-            }
-            if top.drilling > 0.0 {
-                consts.side[1] = band[1];
-            }
+        let mut consts = Consts::of(self.top);
+        let band = self.band.get();
+        for j in (0..2).filter(|&j| self.watches_band(&phase.contacts, j)) {
+            consts.side[j] = band[j];
         }
         consts
+    }
+
+    /// Whether a phase of `c` watches resistance `j`'s kink ([`Switch::Band`]; 0 rolling,
+    /// 1 drilling): where a part presses on the floor (a ring lying flat: the drilling
+    /// resistance's alone, the floor taking the rolling one's torque).
+    fn watches_band(&self, c: &Contacts, j: usize) -> bool {
+        let top = self.top;
+        c.mask(top.parts.n) != 0
+            && if j == 0 {
+                top.rolling > 0.0 && !c.flat
+            } else {
+                top.drilling > 0.0
+            }
     }
 
     /// A phase by DOP853, with one integrator per common kernel, each with only that kernel

@@ -373,6 +373,64 @@ mod tests {
     use super::super::{Friction, PlayTop};
     use super::rim_coulomb;
 
+    /// The resistance laws kept to one side of their kinks (theory: "Contact thresholds",
+    /// resistance rate): the linear law `-c w / r` continued above the kink rate `r`, the
+    /// sharp law `-c w / |w|` continued below it, each the rate's own law on its own side, and
+    /// the two equal at the kink.
+    #[test]
+    fn a_resistance_kept_to_a_side_of_its_kink_continues_that_sides_law() {
+        let parts = [Shape::Sphere {
+            radius: 0.01,
+            z: -0.004,
+        }];
+        let (cr, cd) = (2e-4, 1e-4);
+        let top = PlayTop::with_parts(
+            0.02,
+            4e-6,
+            3e-6,
+            &parts,
+            9.81,
+            Friction::Coulomb { mu: 0.3 },
+            0.0,
+            cr,
+            cd,
+            0.0,
+        )
+        .unwrap();
+        let len = top.parts.reach();
+        let [rr, rd] = top.resist_bands(len);
+        let ez = [0.0, 0.0, 1.0];
+        // Horizontal rate along x, vertical rate along z, each `k` times its kink's rate.
+        let torque = |k: f64, side: [f64; 2]| {
+            let w = [k * rr, 0.0, -k * rd];
+            top.resistance_on(w, ez, len, side).0
+        };
+        let close = |a: f64, b: f64| (a - b).abs() <= 1e-12 * b.abs().max(1e-300);
+        for k in [0.25, 0.5, 2.0, 4.0] {
+            // [rolling (x), drilling (z)] per unit N, from the laws as written
+            let linear = [-cr * k, cd * k];
+            let sharp = [-cr, cd];
+            let by_rate = if k < 1.0 { linear } else { sharp };
+            for (side, want) in [
+                ([-1.0, -1.0], linear),
+                ([1.0, 1.0], sharp),
+                ([0.0; 2], by_rate),
+            ] {
+                let t = torque(k, side);
+                assert!(
+                    close(t[0], want[0]) && close(t[2], want[1]),
+                    "{k} {side:?}: {t:?}"
+                );
+                assert_eq!(t[1], 0.0);
+            }
+        }
+        let (lin, sh) = (torque(1.0, [-1.0; 2]), torque(1.0, [1.0; 2]));
+        assert!(
+            close(lin[0], sh[0]) && close(lin[2], sh[2]),
+            "{lin:?} {sh:?}"
+        );
+    }
+
     /// Coulomb-Contensou friction at a patch whose sliding measure `d = |(v, rbar w_n)|`
     /// crosses the creep speed: the law above it (`-mu (v, rbar^2 w_n) / d`), the creep below
     /// (the slip put along `dir`). The tangential force's size and the drilling torque are
